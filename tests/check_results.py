@@ -1,0 +1,226 @@
+#!/usr/bin/python3
+"""Check one output folder of edp/solve.edp against the physics of DESIGN.md section 5.
+
+Reads only the text outputs (nothing of the solver), so it is an independent check:
+  constraint and complementarity (original problem), the penalty law (penalty problem),
+  the friction cone and the direction of friction, p_nu = p(v_nu) + lambda_nu,
+  the discrete energy balance of every step recomputed from its terms, the contact
+  dissipation of the last step recomputed from contact.txt, the zone counts.
+Options add: expected zone counts, the known answer of the column scene, and
+agreement with another output folder of the same discrete problem.
+
+Usage: check_results.py DIR [--zones DAMPED_SLIP,BOUND_SLIP] [--column]
+                            [--compare OTHER_DIR] [--rtol 1e-9]
+Prints one line per failed check and exits 1 if any failed.
+"""
+import argparse
+import math
+import os
+import sys
+
+import numpy as np
+
+FILES = ("contact.txt", "fields.txt", "history.txt", "summary.txt")
+
+
+def read_table(path):
+    """Header parameters (# key value lines), column names (last # line), data."""
+    params, columns = {}, None
+    with open(path) as f:
+        for line in f:
+            if not line.startswith("#"):
+                break
+            words = line[1:].split()
+            if len(words) == 2:
+                params[words[0]] = words[1]
+            columns = words
+    data = np.loadtxt(path, comments="#", ndmin=2)
+    return params, columns, data
+
+
+def read_summary(path):
+    summary = {}
+    with open(path) as f:
+        for line in f:
+            if line.startswith("#") or not line.strip():
+                continue
+            key, value = line.split(None, 1)
+            summary[key] = value.strip()
+    return summary
+
+
+class Checker:
+    def __init__(self, folder):
+        self.folder = folder
+        self.failures = []
+
+    def expect(self, condition, message):
+        if not condition:
+            self.failures.append(message)
+        return condition
+
+    def load(self):
+        for name in FILES:
+            if not self.expect(os.path.isfile(os.path.join(self.folder, name)), f"missing {name}"):
+                return False
+        self.params, cols, self.contact = read_table(os.path.join(self.folder, "contact.txt"))
+        self.c = {name: self.contact[:, i] for i, name in enumerate(cols)}
+        _, cols, self.history = read_table(os.path.join(self.folder, "history.txt"))
+        self.h = {name: self.history[:, i] for i, name in enumerate(cols)}
+        _, cols, self.fields = read_table(os.path.join(self.folder, "fields.txt"))
+        self.f = {name: self.fields[:, i] for i, name in enumerate(cols)}
+        self.summary = read_summary(os.path.join(self.folder, "summary.txt"))
+        for name in ("x", "v_nu", "v_tau", "p_nu", "lambda_nu", "lambda_tau", "normal_status",
+                     "tangential_status", "weight"):
+            self.expect(name in self.c, f"contact.txt lacks column {name}")
+        for name in ("step", "t", "iterations", "residual", "kinetic", "elastic", "numerical_dissipation",
+                     "viscous_dissipation", "contact_dissipation", "external_work", "energy_residual"):
+            self.expect(name in self.h, f"history.txt lacks column {name}")
+        for name in ("x", "y", "u_x", "u_y", "v_x", "v_y"):
+            self.expect(name in self.f, f"fields.txt lacks column {name}")
+        return not self.failures
+
+    def real(self, key):
+        return float(self.params[key])
+
+    def check_contact(self, rtol):
+        c, cnu, g, mu = self.c, self.real("cnu"), self.real("g"), self.real("mu")
+        scale = cnu * g if cnu * g > 0 else 1.0            # p(g): the force scale
+        vn, vt, pn, ln, lt = c["v_nu"], c["v_tau"], c["p_nu"], c["lambda_nu"], c["lambda_tau"]
+        damped = cnu * np.maximum(vn, 0.0)
+        bound = mu * damped
+        err = np.abs(pn - damped - ln).max()
+        self.expect(err <= rtol * scale, f"p_nu != p(v_nu) + lambda_nu: {err:.3e}")
+        if self.params["problem"] == "original":
+            viol = np.maximum(vn - g, 0.0).max() / g
+            self.expect(viol <= rtol, f"constraint v_nu <= g violated by {viol:.3e} g")
+            neg = np.maximum(-ln, 0.0).max() / scale
+            self.expect(neg <= rtol, f"negative multiplier lambda_nu: {neg:.3e} p(g)")
+            comp = np.abs(ln * (vn - g)).max() / (scale * g)
+            self.expect(comp <= rtol, f"complementarity lambda_nu (v_nu - g) = {comp:.3e} p(g) g")
+        else:
+            # compliant form eps lambda_nu = (v_nu - g)_+, in velocity units (dividing by eps
+            # would amplify the round-off of v_nu by 1/eps)
+            eps = self.real("eps")
+            err = np.abs(eps * ln - np.maximum(vn - g, 0.0)).max() / g
+            self.expect(err <= rtol, f"penalty law eps lambda_nu = (v_nu - g)_+ off by {err:.3e} g")
+        over = (np.abs(lt) - bound).max() / scale
+        self.expect(over <= rtol, f"friction cone |lambda_tau| <= mu p(v_nu) violated by {over:.3e} p(g)")
+        slip = np.abs(vt) > 1e-6 * g
+        if slip.any():
+            gap = np.abs(np.abs(lt[slip]) - bound[slip]).max() / scale
+            self.expect(gap <= rtol, f"sliding nodes off the friction bound by {gap:.3e} p(g)")
+            opposed = (lt[slip] * vt[slip] < 0) & (bound[slip] > rtol * scale)
+            self.expect(not opposed.any(), f"{int(opposed.sum())} sliding nodes with lambda_tau against v_tau")
+        normal = np.where(vn <= 0, 0, np.where(vn >= g * (1 - 1e-6), 2, 1))
+        tangential = np.where(np.abs(vt) <= 1e-6 * g, 0, 1)
+        self.expect((normal == c["normal_status"]).all(), "normal_status does not match v_nu")
+        self.expect((tangential == c["tangential_status"]).all(), "tangential_status does not match v_tau")
+        zones = {
+            "zone_free": int((normal == 0).sum()),
+            "zone_damped_slip": int(((normal == 1) & (tangential == 1)).sum()),
+            "zone_damped_stick": int(((normal == 1) & (tangential == 0)).sum()),
+            "zone_bound_slip": int(((normal == 2) & (tangential == 1)).sum()),
+            "zone_bound_stick": int(((normal == 2) & (tangential == 0)).sum()),
+        }
+        for key, value in zones.items():
+            self.expect(int(self.summary.get(key, -1)) == value,
+                        f"summary {key} = {self.summary.get(key)} but contact.txt gives {value}")
+        self.expect(int(self.summary.get("contact_nodes", -1)) == len(vn), "summary contact_nodes != rows of contact.txt")
+        self.zones = zones
+
+    def check_energy(self, rtol):
+        h = self.h
+        steps = int(self.summary["steps"])
+        dt, T = self.real("dt"), self.real("T")
+        self.expect(len(h["t"]) == steps == round(T / dt), f"history has {len(h['t'])} steps, expected T/dt")
+        self.expect(np.allclose(h["t"], dt * np.arange(1, len(h["t"]) + 1), rtol=1e-12, atol=0), "history t != n dt")
+        energy = h["kinetic"] + h["elastic"]
+        before = np.concatenate(([0.0], energy[:-1]))         # u0 = v0 = 0
+        terms = np.vstack([energy, before, h["numerical_dissipation"], h["viscous_dissipation"],
+                           h["contact_dissipation"], h["external_work"]])
+        balance = energy - before + h["numerical_dissipation"] + h["viscous_dissipation"] \
+            + h["contact_dissipation"] - h["external_work"]
+        largest = np.abs(terms).max(axis=0)
+        largest[largest == 0] = 1.0
+        worst = (np.abs(balance) / largest).max()
+        self.expect(worst <= rtol, f"discrete energy balance off by {worst:.3e} (relative to the largest term)")
+        for name in ("kinetic", "elastic", "numerical_dissipation", "viscous_dissipation", "contact_dissipation"):
+            low = (h[name] / largest).min()
+            self.expect(low >= -rtol, f"{name} negative ({low:.3e})")
+        tol = self.real("tol")
+        self.expect((h["residual"] <= tol).all(), "a step's residual is above -tol")
+        self.expect((h["iterations"] >= 1).all(), "a step reports no iteration")
+        # last step: contact dissipation from contact.txt
+        c = self.c
+        mine = dt * np.sum(c["weight"] * (c["p_nu"] * c["v_nu"] + c["lambda_tau"] * c["v_tau"]))
+        theirs = h["contact_dissipation"][-1]
+        self.expect(abs(mine - theirs) <= rtol * max(largest[-1], 1e-300),
+                    f"contact dissipation of the last step: contact.txt gives {mine:.15e}, history {theirs:.15e}")
+
+    def check_zones(self, expected):
+        damped, bound = (int(x) for x in expected.split(","))
+        got = (self.zones["zone_damped_slip"], self.zones["zone_bound_slip"])
+        self.expect(got == (damped, bound), f"zones damped-slip/bound-slip = {got[0]}/{got[1]}, expected {damped}/{bound}")
+
+    def check_column(self):
+        """Known answer: sum of the equations with w = (0,1) gives, exactly,
+        sum_i w_i p_nu_i = q L + (1/k) m(v_n - v_{n-1}, e_y), q = load T; and by Cauchy-Schwarz
+        |m(dv, e_y)| <= sqrt(2 numerical_dissipation) sqrt(rho |Omega|). The column is uniaxial,
+        so each node carries p_nu = q and v_nu = min(q/c_nu, g) up to that inertia term."""
+        c, h = self.c, self.h
+        q = self.real("load") * self.real("T")
+        cnu, g, rho, dt = self.real("cnu"), self.real("g"), self.real("rho"), self.real("dt")
+        length = c["weight"].sum()
+        area = length * (self.f["y"].max() - self.f["y"].min())
+        inertia = math.sqrt(2 * h["numerical_dissipation"][-1] * rho * area) / dt   # force bound
+        total = np.sum(c["weight"] * c["p_nu"])
+        self.expect(abs(total - q * length) <= inertia + 1e-12 * q * length,
+                    f"total contact force {total:.15e} != q L = {q * length:.15e} (inertia bound {inertia:.3e})")
+        slack = 10 * inertia / length + 1e-10 * q                # per-node pressure tolerance
+        err_p = np.abs(c["p_nu"] - q).max()
+        self.expect(err_p <= slack, f"p_nu differs from q = {q} by {err_p:.3e} > {slack:.3e}")
+        vexact = min(q / cnu, g)
+        err_v = np.abs(c["v_nu"] - vexact).max()
+        self.expect(err_v <= slack / cnu + 1e-10 * g, f"v_nu differs from min(q/c_nu, g) = {vexact} by {err_v:.3e}")
+        self.expect(np.abs(c["lambda_tau"]).max() == 0.0 or self.real("mu") > 0, "lambda_tau != 0 without friction")
+
+    def compare(self, other_folder, rtol):
+        for name, cols in (("contact.txt", ("v_nu", "v_tau", "p_nu", "lambda_nu", "lambda_tau")),
+                           ("fields.txt", ("u_x", "u_y", "v_x", "v_y"))):
+            _, ca, a = read_table(os.path.join(self.folder, name))
+            _, cb, b = read_table(os.path.join(other_folder, name))
+            if not self.expect(a.shape == b.shape, f"{name}: shapes differ {a.shape} {b.shape}"):
+                continue
+            for col in cols:
+                x, y = a[:, ca.index(col)], b[:, cb.index(col)]
+                scale = max(np.abs(x).max(), np.abs(y).max(), 1e-300)
+                err = np.abs(x - y).max() / scale
+                self.expect(err <= rtol, f"{name} {col}: relative difference {err:.3e} > {rtol:g} vs {other_folder}")
+
+
+def main():
+    parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    parser.add_argument("folder")
+    parser.add_argument("--rtol", type=float, default=1e-9, help="tolerance of every check (relative)")
+    parser.add_argument("--zones", help="expected DAMPED_SLIP,BOUND_SLIP counts")
+    parser.add_argument("--column", action="store_true", help="check the column scene's known answer")
+    parser.add_argument("--compare", help="another output folder that must agree to --rtol")
+    args = parser.parse_args()
+    check = Checker(args.folder)
+    if check.load():
+        check.check_contact(args.rtol)
+        check.check_energy(args.rtol)
+        if args.zones:
+            check.check_zones(args.zones)
+        if args.column:
+            check.check_column()
+        if args.compare:
+            check.compare(args.compare, args.rtol)
+    for failure in check.failures:
+        print(f"  {args.folder}: {failure}")
+    sys.exit(1 if check.failures else 0)
+
+
+if __name__ == "__main__":
+    main()

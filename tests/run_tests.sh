@@ -119,7 +119,7 @@ expect_failure() {
   local name="$1" code="$2" regex="$3"; shift 3
   local out="$work/fail-$count" diag="$work/fail.diag"
   rm -rf "$out" "$out.partial"
-  solve -out "$out" "$@" > "$diag" 2>&1
+  if printf '%s\n' "$@" | grep -qx -- -out; then solve "$@" > "$diag" 2>&1; else solve -out "$out" "$@" > "$diag" 2>&1; fi
   local rc=$?
   local status=0
   if [ "$rc" != "$code" ]; then echo "exit code $rc, expected $code" >> "$diag"; status=1; fi
@@ -129,19 +129,51 @@ expect_failure() {
 }
 coarse=(-nx 8 -ny 4 -dt 0.1)
 expect_failure "unknown option" 2 "unknown option '-foo'" -foo 1
+expect_failure "not an option" 2 "expected an option -name, got '12'" 12
 expect_failure "option without value" 2 "option -dt needs a value" -dt
 expect_failure "repeated option" 2 "option -nx is given twice" -nx 8 -nx 9
-expect_failure "not a number" 2 "option -dt must be a real number, got 'abc'" -dt abc
+expect_failure "real not a number" 2 "option -dt must be a real number, got 'abc'" -dt abc
+expect_failure "real half a number" 2 "option -E must be a real number, got '1e'" -E 1e
+expect_failure "real overflows" 2 "option -load = 1e999 is not a finite number" -load 1e999
+expect_failure "integer not whole" 2 "option -nx must be a whole number, got '1.5'" -nx 1.5
+expect_failure "integer too large" 2 "option -ny = 5000 is out of range: it must be <= 4096" -ny 5000
+expect_failure "nx < 1" 2 "option -nx = 0 is out of range: it must be >= 1" -nx 0
+expect_failure "T <= 0" 2 "option -T = -1 is out of range: it must be > 0" -T -1
 expect_failure "dt <= 0" 2 "option -dt = 0 is out of range: it must be > 0" -dt 0
-expect_failure "T/dt not whole" 2 "does not divide T" -dt 0.3
+expect_failure "dt > T" 2 "option -dt = 2 is out of range: it must be <= T = 1" -dt 2
+expect_failure "T/dt not whole" 2 "option -dt = 0.3 does not divide T = 1" -dt 0.3
+expect_failure "too many steps" 2 "ask for more than 1e7 steps" -dt 1e-8
+expect_failure "rho <= 0" 2 "option -rho = 0 is out of range: it must be > 0" -rho 0
+expect_failure "E <= 0" 2 "option -E = -100 is out of range: it must be > 0" -E -100
 expect_failure "nu >= 0.5" 2 "option -nu = 0.5 is out of range: it must be < 0.5" -nu 0.5
+expect_failure "nu < 0" 2 "option -nu = -0.1 is out of range: it must be >= 0" -nu -0.1
+expect_failure "muv < 0" 2 "option -muv = -1 is out of range: it must be >= 0" -muv -1
+expect_failure "eta < 0" 2 "option -eta = -0.5 is out of range: it must be >= 0" -eta -0.5
+expect_failure "cnu < 0" 2 "option -cnu = -50 is out of range: it must be >= 0" -cnu -50
+expect_failure "g <= 0" 2 "option -g = 0 is out of range: it must be > 0" -g 0
+expect_failure "mu < 0" 2 "option -mu = -0.4 is out of range: it must be >= 0" -mu -0.4
+expect_failure "eps <= 0" 2 "option -eps = 0 is out of range: it must be > 0" -eps 0
+expect_failure "tol <= 0" 2 "option -tol = -1e-10 is out of range: it must be > 0" -tol -1e-10
+expect_failure "maxit < 1" 2 "option -maxit = 0 is out of range: it must be >= 1" -maxit 0
+expect_failure "r <= 0" 2 "option -r = 0 is out of range: it must be > 0" -r 0
 expect_failure "unknown problem" 2 "option -problem = 'dual' is not one of original\|penalty" -problem dual
+expect_failure "unknown solver" 2 "option -solver = 'cg' is not one of newton\|full" -solver cg
 expect_failure "unknown scene" 2 "option -scene = 'moon'" -scene moon
+expect_failure "scene file with a bad line" 3 "cannot read 'gravity 9.81'" -scene tests/data/bad.scene
 expect_failure "missing mesh file" 3 "cannot read the file" -mesh "$work/no-such.msh"
 printf '$MeshFormat\n4.1 0 8\n$EndMeshFormat\n' > "$work/v41.msh"
-expect_failure "MSH 4.1 mesh" 3 "not a gmsh MSH 2.2 file; re-export it with: gmsh -2 -format msh22" -mesh "$work/v41.msh"
-gmsh -2 -format msh22 -v 0 -setnumber nx 4 -setnumber ny 2 tests/data/unlabelled.geo -o "$work/unlabelled.msh" > /dev/null 2>&1
-expect_failure "mesh without physical groups" 3 "has no boundary label" -mesh "$work/unlabelled.msh"
+expect_failure "MSH 4.1 mesh" 3 "gmsh format 4.1, not 2.2: re-export it with: gmsh -2 -format msh22" -mesh "$work/v41.msh"
+printf 'hello\n' > "$work/text.msh"
+expect_failure "not a mesh file" 3 "not a gmsh mesh file" -mesh "$work/text.msh"
+mesh_of() { gmsh -2 -format msh22 -v 0 -setnumber nx 4 -setnumber ny 2 "tests/data/$1.geo" -o "$work/$1.msh" > /dev/null 2>&1; }
+mesh_of unlabelled
+expect_failure "mesh without physical curves" 3 "no boundary line with physical tag 1 2 3 4" -mesh "$work/unlabelled.msh"
+mesh_of flipped
+expect_failure "contact boundary on the wrong side" 3 "the scene expects the outward normal \(0, -1\)" -mesh "$work/flipped.msh"
+expect_failure "mesh without triangles" 3 "no triangle" -mesh tests/data/no-triangle.msh
+expect_failure "zero-area triangle" 3 "has zero area" -mesh tests/data/zero-area.msh
+expect_failure "output is a file" 7 "exists and is not a folder" -out tests/cases.txt
+expect_failure "output not writable" 7 "cannot create the output folder" -out /proc/no-such-folder
 expect_failure "no convergence (maxit 1)" 4 "step 1 \(t = .*\): the contact solver did not converge after 1 iterations .*residual" "${coarse[@]}" -maxit 1
 
 # ---- a failed run leaves earlier results untouched
@@ -153,6 +185,23 @@ solve "${coarse[@]}" -maxit 1 -out "$work/keep" >> "$diag" 2>&1 && status=1
 cmp -s "$work/keep/contact.txt" "$work/keep.contact.before" || { echo "earlier results changed" >> "$diag"; status=1; }
 [ -e "$work/keep.partial" ] && { echo "partial folder left behind" >> "$diag"; status=1; }
 report $status "a failed run leaves the earlier results untouched" "$diag"
+
+# ---- a run killed by a signal leaves the earlier results untouched and nothing that looks valid
+for signal in TERM KILL; do
+  diag="$work/kill.diag"; : > "$diag"; status=0
+  rm -rf "$work/kill" "$work/kill.partial"
+  solve "${coarse[@]}" -out "$work/kill" > "$diag" 2>&1 || status=1
+  cp -r "$work/kill" "$work/kill.before"
+  solve -nx 66 -ny 33 -dt 0.001 -out "$work/kill" >> "$diag" 2>&1 &   # about 10 s: long enough to be killed
+  pid=$!
+  sleep 0.4
+  kill -s "$signal" "$pid" 2>/dev/null || { echo "the run ended before the signal" >> "$diag"; status=1; }
+  wait "$pid" 2>/dev/null && { echo "the killed run exited 0" >> "$diag"; status=1; }
+  diff -r "$work/kill" "$work/kill.before" >> "$diag" 2>&1 || { echo "earlier results changed" >> "$diag"; status=1; }
+  [ -e "$work/kill.partial/summary.txt" ] && { echo "a complete-looking $work/kill.partial was left" >> "$diag"; status=1; }
+  rm -rf "$work/kill.before"
+  report $status "a run killed with SIG$signal leaves the earlier results untouched" "$diag"
+done
 
 # ---- reproducibility: the same options give byte-identical outputs (timings aside)
 diag="$work/repro.diag"; : > "$diag"; status=0

@@ -1,0 +1,40 @@
+# check_msh22.awk: refuse a gmsh mesh file that edp/solve.edp cannot use, before
+# FreeFEM reads it (its reader aborts on degenerate triangles and silently re-meshes
+# a file without triangles). Usage: awk -f check_msh22.awk FILE.msh
+# Prints one line "ok" or "error: ..." and exits 0 or 1.
+function fail(msg) { print "error: " msg; bad = 1; exit 1 }
+NR == 2 && section == "MeshFormat" { version = $1 }
+/^\$MeshFormat/ { section = "MeshFormat"; next }
+/^\$Nodes/ { section = "Nodes"; count = -1; next }
+/^\$Elements/ { section = "Elements"; count = -1; next }
+/^\$End/ { section = ""; next }
+section == "Nodes" {
+  if (count < 0) { count = $1; next }
+  x[$1] = $2; y[$1] = $3
+  if (xmin == "" || $2 < xmin) xmin = $2; if (xmax == "" || $2 > xmax) xmax = $2
+  if (ymin == "" || $3 < ymin) ymin = $3; if (ymax == "" || $3 > ymax) ymax = $3
+  next
+}
+section == "Elements" {
+  if (count < 0) { count = $1; next }
+  ntags = $3; first = 4 + ntags
+  if ($2 == 2) {
+    triangles++
+    a = $(first); b = $(first + 1); c = $(first + 2)
+    if (!(a in x) || !(b in x) || !(c in x)) fail("triangle " $1 " uses a node that is not defined")
+    area = 0.5 * ((x[b] - x[a]) * (y[c] - y[a]) - (x[c] - x[a]) * (y[b] - y[a]))
+    if (area < 0) area = -area
+    if (area <= 1e-12 * (xmax - xmin) * (ymax - ymin)) fail("triangle " $1 " (nodes " a " " b " " c ") has zero area")
+  }
+  if ($2 == 1 && ntags >= 1) labels[$4] = 1
+  next
+}
+END {
+  if (bad) exit 1
+  if (version == "") fail("not a gmsh mesh file (no $MeshFormat section)")
+  if (version !~ /^2\.2/) fail("gmsh format " version ", not 2.2: re-export it with: gmsh -2 -format msh22 FILE.geo -o FILE.msh")
+  if (triangles == 0) fail("no triangle (does the .geo define a Physical Surface?)")
+  for (l = 1; l <= 4; l++) if (!(l in labels)) missing = missing " " l
+  if (missing != "") fail("no boundary line with physical tag" missing " (Physical Curve 1 contact, 2 right, 3 traction, 4 left are required)")
+  print "ok"
+}

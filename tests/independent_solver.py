@@ -1,0 +1,555 @@
+#!/usr/bin/python3
+"""independent_solver.py: an independent NumPy implementation of the discrete dynamic
+frictional contact problem of DESIGN.md sections 1-2 (Barboteu, Ouafik, Sofonea 2018),
+used to cross-check the FreeFEM code (edp/solve.edp) on small meshes.
+
+WHAT IT SOLVES
+  Plane stress, P1 triangles, velocity v as unknown, backward Euler with k = T/N,
+  u_n = u_{n-1} + k v_n, u0 = v0 = 0. For every step n and every w in V_h:
+    (1/k) m(v_n - v_{n-1}, w) + a(v_n, w) + b(u_{n-1} + k v_n, w)
+      + sum_i w_i [ (p(v_nu_i) + lambda_nu_i) w_nu(x_i) + lambda_tau_i w_tau(x_i) ] = f_n(w)
+  m = int rho v.w (consistent P1 mass), a = int muv div div + eta eps:eps,
+  b = int E nu/(1-nu^2) div div + E/(1+nu) eps:eps, f_n(w) = int_{label 3} (0,-load t_n).w,
+  p(r) = cnu max(r,0). Contact is nodal on the label-1 nodes, weight w_i = half the length
+  of the adjacent label-1 edges, outward normal (0,-1): v_nu = -v_y, v_tau = v_x.
+    original: v_nu <= g, lambda_nu >= 0, lambda_nu (v_nu - g) = 0
+    penalty : lambda_nu = max(v_nu - g, 0)/eps
+    friction: |lambda_tau| <= mu p(v_nu), lambda_tau = mu p(v_nu) v_tau/|v_tau| if v_tau != 0
+  A Dirichlet-fixed component carries no contact unknown. Scenes (fixed components):
+    paper : label 4 x and y, label 2 x;   column: label 4 x.
+
+HOW (independent of the FreeFEM code; written from DESIGN.md and the paper only)
+  * own gmsh MSH 2.2 (ASCII) reader; own element matrices (gradients of barycentric
+    coordinates, Voigt form with engineering shear), dense global matrices;
+  * Dirichlet components are removed from the unknowns (no penalty/tgv);
+  * each step is solved by a semismooth Newton method on the FULL, uncondensed system
+    (free velocities + one lambda_nu per normal slot + one lambda_tau per tangential
+    slot), with the Fischer-Burmeister function for the normal complementarity of the
+    original problem, a max() equation for the penalty problem and the projection
+    (Alart-Curnier) equation for friction; generalized Jacobians are formed
+    explicitly and solved with numpy.linalg.solve; a backtracking line search on the
+    scaled residual norm is used when a full step does not reduce it;
+  * convergence is declared on the residuals of the ORIGINAL conditions (equilibrium,
+    constraint, sign, complementarity, friction cone and slip direction), each relative
+    to its natural scale, below --tol (default 1e-13); a step that fails is reported and
+    the program exits with status 4.
+  Nothing of a FreeFEM run is read except, in --compare mode, its parameters
+  (summary.txt, contact.txt header) and its mesh (mesh.msh); its results are read only
+  to be compared with.
+
+USAGE
+  /usr/bin/python3 tests/independent_solver.py --mesh FILE.msh [--scene paper|column]
+      [--problem original|penalty] [--T 1] [--dt 0.05] [--rho 2e-6] [--E 100] [--nu 0.2]
+      [--muv 0.25] [--eta 0.5] [--load 10] [--cnu 50] [--g 0.05] [--mu 0.4] [--eps 2e-5]
+      [--tol 1e-13] [--maxit 100] --out DIR
+    writes DIR/contact.txt (x v_nu v_tau p_nu lambda_nu lambda_tau, label-1 nodes sorted
+    by x) and DIR/fields.txt (x y u_x u_y v_x v_y, all nodes in the file's node order),
+    17 significant digits, '#' header lines (parameters, then the column names).
+  /usr/bin/python3 tests/independent_solver.py --compare FREEFEM_RUN_DIR [--rtol 1e-9]
+      [--out DIR]
+    takes the parameters from FREEFEM_RUN_DIR/summary.txt and the contact.txt header,
+    the mesh from FREEFEM_RUN_DIR/mesh.msh, solves, and prints per column the max abs
+    difference relative to the column's max abs value (contact.txt: v_nu v_tau p_nu
+    lambda_nu lambda_tau; fields.txt: u_x u_y v_x v_y). Exit 1 if any exceeds rtol.
+  Exit status: 0 ok, 1 comparison failed, 2 bad usage/input, 4 a step did not converge.
+Only numpy is needed.
+"""
+import argparse
+import os
+import sys
+import time
+
+import numpy as np
+
+SCENES = {
+    # label -> fixed components (0 = x, 1 = y)
+    "paper": {4: (0, 1), 2: (0,)},
+    "column": {4: (0,)},
+}
+TRACTION_DIRECTION = (0.0, -1.0)     # f2 = load * t * (0, -1) on label 3, both scenes
+CONTACT, TRACTION = 1, 3
+DEFAULTS = dict(scene="paper", problem="original", T=1.0, dt=0.05, rho=2e-6, E=100.0,
+                nu=0.2, muv=0.25, eta=0.5, load=10.0, cnu=50.0, g=0.05, mu=0.4, eps=2e-5)
+PARAM_KEYS = ["scene", "problem", "T", "dt", "rho", "E", "nu", "muv", "eta", "load",
+              "cnu", "g", "mu", "eps"]
+
+
+class InputError(Exception):
+    pass
+
+
+class ConvergenceError(Exception):
+    pass
+
+
+# ----------------------------------------------------------------------------- mesh
+def read_msh22(path):
+    """Return (xy[nn,2], tri[nt,3], edges[ne,2], edge_labels[ne]) in file node order."""
+    try:
+        with open(path) as f:
+            lines = f.read().split("\n")
+    except OSError as e:
+        raise InputError("cannot read mesh %s: %s" % (path, e))
+    i, nodes_xy, node_index, tris, edges, labels = 0, None, {}, [], [], []
+    fmt_ok = False
+    while i < len(lines):
+        s = lines[i].strip()
+        if s == "$MeshFormat":
+            w = lines[i + 1].split()
+            if not w or not w[0].startswith("2.") or w[1] != "0":
+                raise InputError("%s: not an ASCII gmsh MSH 2.x file" % path)
+            fmt_ok = True
+            i += 2
+        elif s == "$Nodes":
+            n = int(lines[i + 1])
+            nodes_xy = np.empty((n, 2))
+            for j in range(n):
+                w = lines[i + 2 + j].split()
+                node_index[int(w[0])] = j
+                nodes_xy[j] = float(w[1]), float(w[2])
+            i += 2 + n
+        elif s == "$Elements":
+            n = int(lines[i + 1])
+            for j in range(n):
+                w = [int(t) for t in lines[i + 2 + j].split()]
+                etype, ntags = w[1], w[2]
+                tags, vs = w[3:3 + ntags], w[3 + ntags:]
+                if etype == 2:
+                    tris.append([node_index[v] for v in vs[:3]])
+                elif etype == 1:
+                    if ntags < 1:
+                        raise InputError("%s: boundary line without physical tag" % path)
+                    edges.append([node_index[v] for v in vs[:2]])
+                    labels.append(tags[0])
+            i += 2 + n
+        else:
+            i += 1
+    if not fmt_ok or nodes_xy is None or not tris:
+        raise InputError("%s: no MSH 2.2 format/nodes/triangles found" % path)
+    return nodes_xy, np.array(tris, dtype=int), np.array(edges, dtype=int), np.array(labels, dtype=int)
+
+
+# ----------------------------------------------------------------------------- assembly
+def assemble(xy, tri, prm):
+    """Dense global mass M, viscosity A, elasticity B; dof 2*node + component."""
+    nd = 2 * len(xy)
+    M, A, B = np.zeros((nd, nd)), np.zeros((nd, nd)), np.zeros((nd, nd))
+
+    def voigt(lam, g):
+        # coefficient lam on div*div, g on eps:eps = e11 f11 + e22 f22 + 2 e12 f12;
+        # with engineering shear gamma = 2 e12: 2 e12 f12 = gamma_u gamma_w / 2
+        return np.array([[lam + g, lam, 0.0], [lam, lam + g, 0.0], [0.0, 0.0, g / 2.0]])
+
+    E, nu = prm["E"], prm["nu"]
+    Dela = voigt(E * nu / (1.0 - nu * nu), E / (1.0 + nu))
+    Dvis = voigt(prm["muv"], prm["eta"])
+    mloc = np.array([[2.0, 1.0, 1.0], [1.0, 2.0, 1.0], [1.0, 1.0, 2.0]]) / 12.0
+    used = np.zeros(len(xy), dtype=bool)
+    for t in tri:
+        used[t] = True
+        P = xy[t]
+        J = np.array([P[1] - P[0], P[2] - P[0]]).T          # columns: edge vectors
+        det = np.linalg.det(J)
+        area = 0.5 * abs(det)
+        if area <= 0:
+            raise InputError("degenerate triangle %s" % t)
+        # gradients of barycentric coordinates
+        Jinv = np.linalg.inv(J)                               # rows: grad of ref coords
+        g1, g2 = Jinv[0], Jinv[1]
+        grads = np.array([-g1 - g2, g1, g2])                  # 3 x 2
+        Bm = np.zeros((3, 6))
+        for a in range(3):
+            Bm[0, 2 * a] = grads[a, 0]
+            Bm[1, 2 * a + 1] = grads[a, 1]
+            Bm[2, 2 * a] = grads[a, 1]
+            Bm[2, 2 * a + 1] = grads[a, 0]
+        dofs = np.array([[2 * v, 2 * v + 1] for v in t]).ravel()
+        ix = np.ix_(dofs, dofs)
+        B[ix] += area * Bm.T @ Dela @ Bm
+        A[ix] += area * Bm.T @ Dvis @ Bm
+        Ml = np.zeros((6, 6))
+        Ml[0::2, 0::2] = mloc
+        Ml[1::2, 1::2] = mloc
+        M[ix] += prm["rho"] * area * Ml
+    if not used.all():
+        raise InputError("%d mesh node(s) belong to no triangle" % (~used).sum())
+    return M, A, B
+
+
+def boundary_data(xy, edges, elab, scene):
+    nn = len(xy)
+    fixed = np.zeros(2 * nn, dtype=bool)
+    for lab, comps in SCENES[scene].items():
+        for e in edges[elab == lab]:
+            for v in e:
+                for c in comps:
+                    fixed[2 * v + c] = True
+    weight = np.zeros(nn)
+    trac = np.zeros(2 * nn)
+    for e, lab in zip(edges, elab):
+        L = np.linalg.norm(xy[e[1]] - xy[e[0]])
+        if lab == CONTACT:
+            weight[e] += 0.5 * L
+        elif lab == TRACTION:
+            for v in e:               # consistent P1 integral of a constant: L/2 per node
+                trac[2 * v] += 0.5 * L * TRACTION_DIRECTION[0]
+                trac[2 * v + 1] += 0.5 * L * TRACTION_DIRECTION[1]
+    for lab in (1, 2, 3, 4):
+        if not (elab == lab).any():
+            raise InputError("mesh has no boundary label %d" % lab)
+    cnodes = np.unique(edges[elab == CONTACT].ravel())
+    cnodes = cnodes[np.lexsort((xy[cnodes, 1], xy[cnodes, 0]))]   # sorted by x
+    return fixed, weight, trac, cnodes
+
+
+# ----------------------------------------------------------------------------- solver
+class Problem:
+    def __init__(self, xy, tri, edges, elab, prm):
+        self.prm = prm
+        self.xy = xy
+        N = int(round(prm["T"] / prm["dt"]))
+        if N < 1 or abs(N * prm["dt"] - prm["T"]) > 1e-9 * prm["T"]:
+            raise InputError("dt does not divide T")
+        self.N, self.k = N, prm["T"] / N
+        self.M, self.A, self.B = assemble(xy, tri, prm)
+        self.fixed, weight, self.trac, self.cnodes = boundary_data(xy, edges, elab, prm["scene"])
+        nd = 2 * len(xy)
+        self.free = np.flatnonzero(~self.fixed)
+        nf = len(self.free)
+        pos = -np.ones(nd, dtype=int)
+        pos[self.free] = np.arange(nf)
+        # normal slots: contact nodes whose y component is free; tangential: x free
+        self.nslot = [v for v in self.cnodes if pos[2 * v + 1] >= 0]
+        self.tslot = [v for v in self.cnodes if pos[2 * v] >= 0]
+        # Cn v_free = v_nu at normal slots (= -v_y); Ct v_free = v_tau (= v_x)
+        self.Cn = np.zeros((len(self.nslot), nf))
+        self.Ct = np.zeros((len(self.tslot), nf))
+        for i, v in enumerate(self.nslot):
+            self.Cn[i, pos[2 * v + 1]] = -1.0
+        for i, v in enumerate(self.tslot):
+            self.Ct[i, pos[2 * v]] = 1.0
+        self.wn = weight[self.nslot]
+        self.wt = weight[self.tslot]
+        # tangential slot -> index of its node's normal slot (or -1: v_nu fixed at 0)
+        nidx = {v: i for i, v in enumerate(self.nslot)}
+        self.t2n = np.array([nidx.get(v, -1) for v in self.tslot], dtype=int)
+        k = self.k
+        S = self.M / k + self.A + k * self.B
+        ff = np.ix_(self.free, self.free)
+        self.S = S[ff]
+        self.Mf, self.Bf = self.M[self.free], self.B[self.free]      # rows of free dofs
+        self.tracf = self.trac[self.free]
+        # residual scales per slot: stiffness per unit weight (force/length per velocity)
+        dS = np.diag(self.S)
+        self.cn = dS[pos[[2 * v + 1 for v in self.nslot]]] / np.maximum(self.wn, 1e-300)
+        self.ct = dS[pos[[2 * v for v in self.tslot]]] / np.maximum(self.wt, 1e-300)
+        self.nf = nf
+
+    # p(r) and the friction bound s = mu p(v_nu) per tangential slot
+    def bound(self, vnu):
+        p = self.prm
+        vn_t = np.where(self.t2n >= 0, vnu[self.t2n] if len(vnu) else 0.0, 0.0)
+        return p["mu"] * p["cnu"] * np.maximum(vn_t, 0.0), vn_t
+
+    def residual(self, x, rhs, jac=False):
+        """Residual F(x) of the semismooth system and (optionally) a generalized Jacobian.
+        Contact rows are multiplied by the node weight so that all rows are forces."""
+        p = self.prm
+        nf, nN, nT = self.nf, len(self.nslot), len(self.tslot)
+        v, ln, lt = x[:nf], x[nf:nf + nN], x[nf + nN:]
+        vnu, vtau = self.Cn @ v, self.Ct @ v
+        cnu, g, mu = p["cnu"], p["g"], p["mu"]
+        Hn = (vnu > 0).astype(float)
+        pnu = cnu * np.maximum(vnu, 0.0) + ln
+        Fv = self.S @ v - rhs + self.Cn.T @ (self.wn * pnu) + self.Ct.T @ (self.wt * lt)
+        # normal rows
+        if p["problem"] == "original":
+            a, b = ln, self.cn * (g - vnu)
+            rho_ = np.sqrt(a * a + b * b)
+            Fn = self.wn * (a + b - rho_)
+        else:
+            Fn = self.wn * (ln - np.maximum(vnu - g, 0.0) / p["eps"])
+        # friction rows: lt = proj_[-s,s](lt + r vtau)
+        s, vn_t = self.bound(vnu)
+        z = lt + self.ct * vtau
+        proj = np.clip(z, -s, s)
+        Ft = self.wt * (lt - proj)
+        F = np.concatenate([Fv, Fn, Ft])
+        if not jac:
+            return F
+        n = nf + nN + nT
+        J = np.zeros((n, n))
+        J[:nf, :nf] = self.S + self.Cn.T @ ((self.wn * cnu * Hn)[:, None] * self.Cn)
+        J[:nf, nf:nf + nN] = self.Cn.T * self.wn
+        J[:nf, nf + nN:] = self.Ct.T * self.wt
+        iN = np.arange(nf, nf + nN)
+        if p["problem"] == "original":
+            safe = rho_ > 0
+            da = np.where(safe, 1.0 - a / np.where(safe, rho_, 1.0), 1.0 - 1.0 / np.sqrt(2.0))
+            db = np.where(safe, 1.0 - b / np.where(safe, rho_, 1.0), 1.0 - 1.0 / np.sqrt(2.0))
+            J[iN, iN] = self.wn * da
+            J[nf:nf + nN, :nf] = (self.wn * db * (-self.cn))[:, None] * self.Cn
+        else:
+            J[iN, iN] = self.wn
+            J[nf:nf + nN, :nf] = (-self.wn * (vnu > g) / p["eps"])[:, None] * self.Cn
+        iT = np.arange(nf + nN, n)
+        inside = np.abs(z) < s              # stick: residual = -r vtau
+        up = (~inside) & (z >= 0)           # slip +: residual = lt - s
+        dn = (~inside) & (z < 0)            # slip -: residual = lt + s
+        J[iT, iT] = self.wt * np.where(inside, 0.0, 1.0)
+        rowsT = np.zeros((nT, nf))
+        rowsT -= (self.wt * np.where(inside, self.ct, 0.0))[:, None] * self.Ct
+        ds = mu * cnu * (vn_t > 0)          # d s / d vnu
+        for i in range(nT):
+            j = self.t2n[i]
+            if j >= 0 and not inside[i]:
+                sgn = -1.0 if up[i] else 1.0   # d(-s)/dvnu for up, d(+s)/dvnu for dn
+                rowsT[i] += self.wt[i] * sgn * ds[i] * self.Cn[j]
+        J[nf + nN:, :nf] = rowsT
+        return F, J
+
+    def kkt_error(self, x, rhs):
+        """Residuals of the original conditions, each relative to its natural scale."""
+        p = self.prm
+        nf, nN = self.nf, len(self.nslot)
+        v, ln, lt = x[:nf], x[nf:nf + nN], x[nf + nN:]
+        vnu, vtau = self.Cn @ v, self.Ct @ v
+        pnu = p["cnu"] * np.maximum(vnu, 0.0) + ln
+        cf = self.Cn.T @ (self.wn * pnu) + self.Ct.T @ (self.wt * lt)
+        Sv = self.S @ v
+        Fv = Sv - rhs + cf
+        fscale = max(np.abs(rhs).max(), np.abs(Sv).max(), np.abs(cf).max(), 1e-300)
+        err = {"equilibrium": np.abs(Fv).max() / fscale}
+        g = p["g"]
+        pscale = max(p["cnu"] * g, np.abs(pnu).max() if nN else 0.0, 1e-300)
+        if nN and p["problem"] == "original":
+            err["constraint"] = np.maximum(vnu - g, 0).max() / g
+            err["sign"] = np.maximum(-ln, 0).max() / pscale
+            err["complementarity"] = np.abs(ln * (vnu - g)).max() / (pscale * g)
+        elif nN:
+            err["penalty"] = np.abs(ln - np.maximum(vnu - g, 0) / p["eps"]).max() / pscale
+        if len(lt):
+            s, _ = self.bound(vnu)
+            err["cone"] = np.maximum(np.abs(lt) - s, 0).max() / pscale
+            vscale = max(np.abs(vtau).max(), g * 1e-3)
+            slip = np.abs(vtau) > 1e-13 * vscale
+            dirn = np.where(slip, np.abs(lt - s * np.sign(vtau)), 0.0)
+            err["slip_direction"] = dirn.max() / pscale
+            # at "stick" nodes the velocity must be zero up to round-off
+            stick_ok = np.abs(lt) < s * (1 - 1e-9)
+            err["stick_velocity"] = (np.abs(vtau[stick_ok]).max() / vscale) if stick_ok.any() else 0.0
+        return max(err.values()), err
+
+    def solve_step(self, x0, rhs, tol, maxit):
+        x = x0.copy()
+        F, J = self.residual(x, rhs, jac=True)
+        fscale = max(np.abs(rhs).max(), 1e-300)
+        hist = []
+        for it in range(1, maxit + 1):
+            dx = np.linalg.solve(J, -F)
+            phi0 = np.dot(F, F)
+            t = 1.0
+            while True:
+                xn = x + t * dx
+                Fn = self.residual(xn, rhs)
+                if np.dot(Fn, Fn) < (1 - 1e-4 * t) * phi0 or t < 1e-10 or phi0 < (1e-15 * fscale) ** 2:
+                    break
+                t *= 0.5
+            x = xn
+            F, J = self.residual(x, rhs, jac=True)
+            e, _ = self.kkt_error(x, rhs)
+            stepnorm = np.abs(t * dx[:self.nf]).max() / max(np.abs(x[:self.nf]).max(), 1e-300)
+            hist.append((e, stepnorm, t))
+            if e < tol and stepnorm < 1e-12:
+                return x, it, e
+        raise ConvergenceError("no convergence after %d iterations; last (kkt, step, t): %s"
+                               % (maxit, hist[-3:]))
+
+    def run(self, tol=1e-13, maxit=100, verbose=False):
+        p = self.prm
+        nd = 2 * len(self.xy)
+        k = self.k
+        u = np.zeros(nd)
+        vold = np.zeros(nd)
+        x = np.zeros(self.nf + len(self.nslot) + len(self.tslot))
+        self.iterations, self.worst = [], 0.0
+        for n in range(1, self.N + 1):
+            t = n * k
+            rhs = self.Mf @ vold / k - self.Bf @ u + p["load"] * t * self.tracf
+            try:
+                x, it, e = self.solve_step(x, rhs, tol, maxit)
+            except ConvergenceError as err:
+                raise ConvergenceError("step %d (t = %g): %s" % (n, t, err))
+            self.iterations.append(it)
+            self.worst = max(self.worst, e)
+            v = np.zeros(nd)
+            v[self.free] = x[:self.nf]
+            u = u + k * v
+            vold = v
+            if verbose:
+                print("step %3d t %.4f iterations %2d kkt %.2e" % (n, t, it, e))
+        self.u, self.v, self.x = u, vold, x
+        return self
+
+    def contact_table(self):
+        p = self.prm
+        nf, nN = self.nf, len(self.nslot)
+        ln_all = dict(zip(self.nslot, self.x[nf:nf + nN]))
+        lt_all = dict(zip(self.tslot, self.x[nf + nN:]))
+        rows = []
+        for v in self.cnodes:
+            vnu, vtau = -self.v[2 * v + 1], self.v[2 * v]
+            ln, lt = ln_all.get(v, 0.0), lt_all.get(v, 0.0)
+            rows.append([self.xy[v, 0], vnu, vtau, p["cnu"] * max(vnu, 0.0) + ln, ln, lt])
+        return np.array(rows)
+
+    def fields_table(self):
+        return np.column_stack([self.xy, self.u[0::2], self.u[1::2], self.v[0::2], self.v[1::2]])
+
+
+def write_table(path, header_params, columns, data):
+    with open(path, "w") as f:
+        for kk in PARAM_KEYS:
+            f.write("# %s %s\n" % (kk, header_params[kk]))
+        f.write("# " + " ".join(columns) + "\n")
+        for row in data:
+            f.write(" ".join("%.17g" % val for val in row) + "\n")
+
+
+def solve(mesh, prm, tol, maxit, verbose=False):
+    xy, tri, edges, elab = read_msh22(mesh)
+    t0 = time.time()
+    pb = Problem(xy, tri, edges, elab, prm).run(tol, maxit, verbose)
+    return pb, time.time() - t0
+
+
+# ----------------------------------------------------------------------------- compare
+def read_params_lines(lines, comment):
+    d = {}
+    for ln in lines:
+        s = ln.strip()
+        if comment:
+            if not s.startswith("#"):
+                continue
+            s = s[1:].strip()
+        elif s.startswith("#"):
+            continue
+        w = s.split()
+        if len(w) == 2 and w[0] in PARAM_KEYS and w[0] not in d:
+            d[w[0]] = w[1]
+    return d
+
+
+def read_table(path):
+    with open(path) as f:
+        lines = f.read().splitlines()
+    head = [ln for ln in lines if ln.startswith("#")]
+    cols = head[-1][1:].split()
+    data = np.array([[float(t) for t in ln.split()] for ln in lines if ln.strip() and not ln.startswith("#")])
+    return cols, data, head
+
+
+def to_params(d, where):
+    prm = {}
+    for kk in PARAM_KEYS:
+        if kk not in d:
+            raise InputError("%s: parameter '%s' missing" % (where, kk))
+        prm[kk] = d[kk] if kk in ("scene", "problem") else float(d[kk])
+    return prm
+
+
+def compare(run_dir, rtol, tol, maxit, out):
+    with open(os.path.join(run_dir, "summary.txt")) as f:
+        summ = read_params_lines(f.read().splitlines(), comment=False)
+    ccols, cdata, chead = read_table(os.path.join(run_dir, "contact.txt"))
+    hdr = read_params_lines(chead, comment=True)
+    prm = to_params(summ, "summary.txt")
+    prm2 = to_params(hdr, "contact.txt header")
+    for kk in PARAM_KEYS:
+        if prm[kk] != prm2[kk]:
+            raise InputError("parameter %s differs: summary.txt %s, contact.txt %s" % (kk, prm[kk], prm2[kk]))
+    if prm["scene"] not in SCENES or prm["problem"] not in ("original", "penalty"):
+        raise InputError("unsupported scene/problem %s/%s" % (prm["scene"], prm["problem"]))
+    fcols, fdata, _ = read_table(os.path.join(run_dir, "fields.txt"))
+    print("parameters: " + " ".join("%s=%s" % (kk, prm[kk]) for kk in PARAM_KEYS))
+    pb, elapsed = solve(os.path.join(run_dir, "mesh.msh"), prm, tol, maxit)
+    print("independent solve: %d steps, %d dofs (%d free), %d contact nodes, Newton iterations "
+          "total %d max %d, worst KKT error %.2e, %.3f s"
+          % (pb.N, 2 * len(pb.xy), pb.nf, len(pb.cnodes), sum(pb.iterations),
+             max(pb.iterations), pb.worst, elapsed))
+    mine_c, mine_f = pb.contact_table(), pb.fields_table()
+    if out:
+        os.makedirs(out, exist_ok=True)
+        write_table(os.path.join(out, "contact.txt"), prm, CONTACT_COLS, mine_c)
+        write_table(os.path.join(out, "fields.txt"), prm, FIELD_COLS, mine_f)
+    if cdata.shape[0] != mine_c.shape[0] or fdata.shape[0] != mine_f.shape[0]:
+        raise InputError("row counts differ: contact %d vs %d, fields %d vs %d"
+                         % (cdata.shape[0], mine_c.shape[0], fdata.shape[0], mine_f.shape[0]))
+    geo = max(np.abs(cdata[:, ccols.index("x")] - mine_c[:, 0]).max(),
+              np.abs(fdata[:, fcols.index("x")] - mine_f[:, 0]).max(),
+              np.abs(fdata[:, fcols.index("y")] - mine_f[:, 1]).max())
+    if geo > 1e-12:
+        raise InputError("node coordinates/order differ (max %.3g)" % geo)
+    worst = 0.0
+    for fname, cols, theirs, mine, names in (
+            ("contact.txt", ccols, cdata, mine_c, CONTACT_COLS),
+            ("fields.txt", fcols, fdata, mine_f, FIELD_COLS)):
+        for j, name in enumerate(names):
+            if name in ("x", "y"):
+                continue
+            a = theirs[:, cols.index(name)]
+            b = mine[:, j]
+            diff = np.abs(a - b).max()
+            scale = max(np.abs(a).max(), 1e-300)
+            rel = diff / scale
+            worst = max(worst, rel)
+            print("%-12s %-11s max|diff| %.3e  scale %.3e  rel %.3e  %s"
+                  % (fname, name, diff, scale, rel, "ok" if rel <= rtol else "EXCEEDS rtol"))
+    print("worst relative difference %.3e (rtol %g): %s" % (worst, rtol, "PASS" if worst <= rtol else "FAIL"))
+    return 0 if worst <= rtol else 1
+
+
+CONTACT_COLS = ["x", "v_nu", "v_tau", "p_nu", "lambda_nu", "lambda_tau"]
+FIELD_COLS = ["x", "y", "u_x", "u_y", "v_x", "v_y"]
+
+
+def main(argv):
+    ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    ap.add_argument("--mesh")
+    ap.add_argument("--compare", metavar="FREEFEM_RUN_DIR")
+    ap.add_argument("--rtol", type=float, default=1e-9)
+    ap.add_argument("--scene", default=DEFAULTS["scene"], choices=sorted(SCENES))
+    ap.add_argument("--problem", default=DEFAULTS["problem"], choices=["original", "penalty"])
+    for kk in PARAM_KEYS[2:]:
+        ap.add_argument("--" + kk, type=float, default=DEFAULTS[kk])
+    ap.add_argument("--tol", type=float, default=1e-13)
+    ap.add_argument("--maxit", type=int, default=100)
+    ap.add_argument("--verbose", action="store_true")
+    ap.add_argument("--out")
+    a = ap.parse_args(argv)
+    try:
+        if a.compare:
+            return compare(a.compare, a.rtol, a.tol, a.maxit, a.out)
+        if not a.mesh or not a.out:
+            ap.error("--mesh and --out are required (or --compare DIR)")
+        prm = {kk: getattr(a, kk) for kk in PARAM_KEYS}
+        for kk in ("T", "dt", "rho", "E", "g", "eps"):
+            if not prm[kk] > 0:
+                raise InputError("--%s must be > 0" % kk)
+        pb, elapsed = solve(a.mesh, prm, a.tol, a.maxit, a.verbose)
+        os.makedirs(a.out, exist_ok=True)
+        write_table(os.path.join(a.out, "contact.txt"), prm, CONTACT_COLS, pb.contact_table())
+        write_table(os.path.join(a.out, "fields.txt"), prm, FIELD_COLS, pb.fields_table())
+        print("%d steps, Newton iterations total %d max %d, worst KKT error %.2e, %.3f s; results in %s"
+              % (pb.N, sum(pb.iterations), max(pb.iterations), pb.worst, elapsed, a.out))
+        return 0
+    except (InputError, OSError, ValueError, KeyError, IndexError) as e:
+        print("independent_solver: error: %s" % e, file=sys.stderr)
+        return 2
+    except ConvergenceError as e:
+        print("independent_solver: %s" % e, file=sys.stderr)
+        return 4
+
+
+if __name__ == "__main__":
+    sys.exit(main(sys.argv[1:]))

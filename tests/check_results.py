@@ -20,7 +20,7 @@ import sys
 
 import numpy as np
 
-FILES = ("contact.txt", "fields.txt", "history.txt", "summary.txt")
+FILES = ("contact.txt", "fields.txt", "history.txt", "contact_history.txt", "summary.txt")
 
 
 def read_table(path):
@@ -69,6 +69,8 @@ class Checker:
         self.h = {name: self.history[:, i] for i, name in enumerate(cols)}
         _, cols, self.fields = read_table(os.path.join(self.folder, "fields.txt"))
         self.f = {name: self.fields[:, i] for i, name in enumerate(cols)}
+        _, cols, self.contact_history = read_table(os.path.join(self.folder, "contact_history.txt"))
+        self.ch = {name: self.contact_history[:, i] for i, name in enumerate(cols)}
         self.summary = read_summary(os.path.join(self.folder, "summary.txt"))
         for name in ("x", "v_nu", "v_tau", "p_nu", "lambda_nu", "lambda_tau", "normal_status",
                      "tangential_status", "weight"):
@@ -129,6 +131,24 @@ class Checker:
                         f"summary {key} = {self.summary.get(key)} but contact.txt gives {value}")
         self.expect(int(self.summary.get("contact_nodes", -1)) == len(vn), "summary contact_nodes != rows of contact.txt")
         self.zones = zones
+        # the last line of contact_history.txt describes the same final state
+        ch = self.ch
+        for key, value in zones.items():
+            self.expect(ch[key][-1] == value, f"contact_history {key} = {ch[key][-1]} at T but contact.txt gives {value}")
+        self.expect((ch["zone_free"] + ch["zone_damped_slip"] + ch["zone_damped_stick"] + ch["zone_bound_slip"]
+                     + ch["zone_bound_stick"] == len(vn)).all(), "contact_history zone counts do not add up to the nodes")
+        force = np.sum(c["weight"] * pn)
+        self.expect(abs(ch["normal_force"][-1] - force) <= rtol * max(abs(force), scale),
+                    f"contact_history normal_force {ch['normal_force'][-1]} != sum w p_nu = {force}")
+        tforce = np.sum(c["weight"] * lt)
+        self.expect(abs(ch["tangential_force"][-1] - tforce) <= rtol * max(abs(tforce), scale),
+                    f"contact_history tangential_force {ch['tangential_force'][-1]} != sum w lambda_tau = {tforce}")
+        at_bound = c["x"][normal == 2]
+        sticking = c["x"][(normal > 0) & (tangential == 0)]
+        for name, xs in (("x_B", at_bound), ("x_C", sticking)):
+            want = xs.min() if len(xs) else np.nan
+            got = ch[name][-1]
+            self.expect((np.isnan(want) and np.isnan(got)) or got == want, f"contact_history {name} = {got}, contact.txt gives {want}")
 
     def check_energy(self, rtol):
         h = self.h

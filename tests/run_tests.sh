@@ -17,6 +17,7 @@ mkdir -p "$work"
 passed=0 failed=0 count=0
 
 solve() { "${FREEFEM[@]}" edp/solve.edp "$@"; }
+OUTPUT_FILES=(contact.txt fields.txt history.txt contact_history.txt summary.txt)
 
 report() { # report STATUS NAME [diagnostic file]
   count=$((count + 1))
@@ -73,7 +74,7 @@ compare_numeric() {
   local mode="$1" ref="$2" new="$3" abs="$4" rel="$5"; shift 5
   local args=() field floor
   while read -r field floor; do args+=(-a "$floor:$field"); done < <(
-    awk -v abs="$abs" '!/^#/ { for (i = 1; i <= NF; i++) if ($i + 0 == $i) { v = $i < 0 ? -$i : $i; if (v > m[i]) m[i] = v; if (i > n) n = i } }
+    awk -v abs="$abs" '!/^#/ { for (i = 1; i <= NF; i++) if ($i + 0 == $i) { v = $i < 0 ? -$i : $i; if (v == v && v < 1e300 && v > m[i]) m[i] = v; if (i > n) n = i } }
       END { for (i = 1; i <= n; i++) printf "%d %.3e\n", i, (m[i] > 0 ? abs * m[i] : abs) }' "$ref")
   for field in "$@"; do args+=(-X "1:$field" -X "2:$field"); done
   numdiff "$mode" -r "$rel" "${args[@]}" "$ref" "$new"
@@ -85,7 +86,7 @@ bless() {
   if ! run_case "$name"; then cat "$log" >&2; echo "run_tests.sh: $name fails its physics checks: not blessed" >&2; exit 1; fi
   mkdir -p "tests/ref/$name"
   local f
-  for f in contact.txt fields.txt history.txt summary.txt; do
+  for f in "${OUTPUT_FILES[@]}"; do
     numeric_view "$work/$name/$f" > "tests/ref/$name/$f"
   done
   echo "run_tests.sh: blessed tests/ref/$name from $work/$name (physics checks passed); review with git diff"
@@ -107,7 +108,7 @@ for name in "${case_names[@]}"; do
   if ! run_case "$name"; then status=1; cat "$work/$name.log" > "$diag"; fi
   report $status "$name: runs and passes the physics checks" "$diag"
   : > "$diag"; status=0
-  for f in contact.txt fields.txt history.txt summary.txt; do
+  for f in "${OUTPUT_FILES[@]}"; do
     ref="tests/ref/$name/$f"
     if [ ! -f "$ref" ]; then
       echo "missing reference $ref (create it with ./run.sh test --bless $name)" >> "$diag"; status=1; continue
@@ -233,7 +234,7 @@ diag="$work/repro.diag"; : > "$diag"; status=0
 rm -rf "$work/repro" "$work/repro.first"
 solve "${coarse[@]}" -out "$work/repro" > "$diag" 2>&1 && mv "$work/repro" "$work/repro.first" || status=1
 solve "${coarse[@]}" -out "$work/repro" >> "$diag" 2>&1 || status=1
-for f in contact.txt fields.txt history.txt summary.txt; do
+for f in "${OUTPUT_FILES[@]}"; do
   cmp -s <(strip_timing "$work/repro.first/$f") <(strip_timing "$work/repro/$f") || { echo "$f differs between two runs" >> "$diag"; status=1; }
 done
 report $status "two runs with the same options give identical outputs" "$diag"

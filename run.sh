@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # run.sh: the one entry point of the suite.
-#   ./run.sh                 the main job: the paper scene, both problems, and the figures
+#   ./run.sh                 the main job: the paper scene, both problems, the eps study,
+#                            the runs for the open choices, the tables and every figure
 #   ./run.sh test [--bless CASE]   the test harness (ends with "N passed, N failed")
 #   ./run.sh solve [options] one run of edp/solve.edp (options: see README.md)
 #   ./run.sh figures [name]  redraw figures from existing results
@@ -46,16 +47,43 @@ FREEFEM=(FreeFem++-nw -ns -v 0)
 
 solve() { "${FREEFEM[@]}" "$here/edp/solve.edp" "$@"; }
 
+# The eps values of the penalty study (Fig. 5): decades from 1e-1 to 1e-8.
+EPS_STUDY=(1e-1 1e-2 1e-3 1e-4 1e-5 1e-6 1e-7 1e-8)
+
+run_logged() { # run_logged LABEL OPTIONS...: one progress line per run
+  local label="$1"; shift
+  local start end
+  start=$(date +%s.%N)
+  if ! solve "$@" > "$results/.log" 2>&1; then
+    cat "$results/.log" >&2; echo "run.sh: error: $label failed" >&2; exit 1
+  fi
+  end=$(date +%s.%N)
+  printf 'run.sh: %-44s %5.2f s  %s\n' "$label" "$(awk -v a="$start" -v b="$end" 'BEGIN { print b - a }')" "$(grep -o 'zones on Gamma3: .*;' "$results/.log" | sed 's/;$//')"
+}
+
 main_job() {
-  local results="$here/results"
-  local problem
+  results="$here/results"
+  mkdir -p "$results"
+  local problem eps i
   for problem in original penalty; do
-    echo "run.sh: solving the paper scene, $problem problem ..."
-    solve -scene paper -problem "$problem" -out "$results/paper-$problem"
+    run_logged "paper scene, $problem" -scene paper -problem "$problem" -out "$results/paper-$problem"
   done
-  echo "run.sh: drawing figures ..."
+  for i in "${!EPS_STUDY[@]}"; do
+    eps="${EPS_STUDY[$i]}"
+    run_logged "eps study, penalty eps = $eps" -scene paper -problem penalty -eps "$eps" -out "$results/eps-study/eps-$((i + 1))"
+  done
+  # Choices the paper leaves open: the time step and the orientation of the diagonals.
+  local right="$results/choices/mesh-right-diagonal.msh"
+  mkdir -p "$results/choices"
+  gmsh -2 -format msh22 -v 0 -setnumber nx 66 -setnumber ny 33 -setnumber diagonal 1 "$here/meshes/rectangle.geo" -o "$right" > /dev/null
+  for problem in original penalty; do
+    run_logged "choices: $problem, k = 0.001" -scene paper -problem "$problem" -dt 0.001 -out "$results/choices/$problem-dt0.001"
+    run_logged "choices: $problem, other diagonals" -scene paper -problem "$problem" -mesh "$right" -out "$results/choices/$problem-right-diagonal"
+  done
+  rm -f "$results/.log"
+  "$PYTHON" "$here/plots/tables.py" --results "$results"
   "$PYTHON" "$here/plots/figures.py" --results "$results" --out "$results/figures"
-  echo "run.sh: results in $results/paper-original and $results/paper-penalty, figures in $results/figures"
+  echo "run.sh: results in $results (zones: $results/zones.txt, eps study: $results/eps-study/eps_study.txt), figures in $results/figures"
 }
 
 command="${1:-main}"

@@ -139,6 +139,16 @@ for problem in original penalty; do
   fi
 done
 
+# ---- the safeguards (line search, augmentation halving) do not change the discrete
+# solution: the fine paper case again with another augmentation
+diag="$work/augmentation.diag"; : > "$diag"
+if solve -scene paper -nx 132 -ny 66 -r 0.3 -out "$work/fine-r0.3" > "$diag" 2>&1 \
+   && "$PYTHON" tests/check_results.py "$work/fine-r0.3" --compare "$work/paper-fine-original" --rtol 1e-9 >> "$diag" 2>&1; then
+  report 0 "the solution does not depend on the augmentation r (1 vs 0.3, 132x66)"
+else
+  report 1 "the solution does not depend on the augmentation r (1 vs 0.3, 132x66)" "$diag"
+fi
+
 # ---- runs that must fail: exit code, message, and no results
 # expect_failure NAME CODE REGEX OPTIONS...
 expect_failure() {

@@ -62,7 +62,7 @@ run_logged() { # run_logged LABEL OPTIONS...: one progress line per run
 }
 
 main_job() {
-  results="$here/results"
+  results="${RESULTS_DIR:-$here/results}"      # RESULTS_DIR: another folder (the tests use one)
   mkdir -p "$results"
   local problem eps i
   for problem in original penalty; do
@@ -92,7 +92,7 @@ case "$command" in
   main) ensure_dependencies; main_job ;;
   solve) ensure_dependencies; solve "$@" ;;
   test) ensure_dependencies; exec bash "$here/tests/run_tests.sh" "$@" ;;
-  figures) ensure_dependencies; "$PYTHON" "$here/plots/figures.py" --results "$here/results" --out "$here/results/figures" "$@" ;;
+  figures) ensure_dependencies; "$PYTHON" "$here/plots/figures.py" --results "${RESULTS_DIR:-$here/results}" --out "${RESULTS_DIR:-$here/results}/figures" "$@" ;;
   -h|--help|help) sed -n '2,9p' "$0" | sed 's/^# \{0,1\}//' ;;
   *) echo "run.sh: error: unknown command '$command' (commands: solve, test, figures, or none for the main job)" >&2; exit 2 ;;
 esac

@@ -1,10 +1,12 @@
 #!/usr/bin/python3
 """Figures of the paper's section 5 from the outputs of edp/solve.edp.
 
-One function per figure, named after the paper's figure; each reads the text outputs
-by column name and writes PNG files. Usage:
-  figures.py --results DIR --out DIR [NAME ...]     (NAME: fig2 fig3 fig4; default all)
-DIR/paper-original and DIR/paper-penalty are the outputs of ./run.sh.
+One function per figure, named after the paper's figure (or, for the figures the
+paper does not have, after what they show); each reads the text outputs by column
+name and writes PNG files. Usage:
+  figures.py --results DIR --out DIR [NAME ...]     (NAME: see FIGURES; default all)
+DIR/paper-original, DIR/paper-penalty and DIR/eps-study are the outputs of ./run.sh;
+fig5 also reads DIR/eps-study/eps_study.txt, written by plots/tables.py.
 """
 import argparse
 import os
@@ -19,7 +21,7 @@ import numpy as np  # noqa: E402
 
 STYLE = {
     "figure.figsize": (11, 4),
-    "figure.dpi": 110,
+    "figure.dpi": 100,
     "axes.grid": True,
     "grid.alpha": 0.3,
     "font.size": 9,
@@ -44,10 +46,26 @@ def read_table(path):
     return params, {name: data[:, i] for i, name in enumerate(columns)}
 
 
-def read_msh22_triangles(path):
-    """Triangles (0-based node indices) of a gmsh MSH 2.2 file."""
+def problem_label(params):
+    """'original problem' or 'penalty problem, eps = ...' from a file's parameter lines."""
+    if params.get("problem") == "penalty":
+        return f"penalty problem, $\\varepsilon$ = {params['eps']}"
+    return f"{params.get('problem', '?')} problem"
+
+
+def read_msh22_mesh(path):
+    """Nodes (x, y, in file order) and triangles (0-based indices into the nodes) of a gmsh MSH 2.2 file."""
     with open(path) as f:
         lines = f.read().split("\n")
+    if "$Nodes" not in lines or "$Elements" not in lines:
+        sys.exit(f"error: {path} is not a gmsh MSH 2.2 file")
+    start = lines.index("$Nodes")
+    count = int(lines[start + 1])
+    ids, xy = {}, np.empty((count, 2))
+    for i, line in enumerate(lines[start + 2:start + 2 + count]):
+        words = line.split()
+        ids[int(words[0])] = i
+        xy[i] = float(words[1]), float(words[2])
     start = lines.index("$Elements")
     count = int(lines[start + 1])
     triangles = []
@@ -55,8 +73,8 @@ def read_msh22_triangles(path):
         words = line.split()
         if words[1] == "2":                      # element type 2: 3-node triangle
             ntags = int(words[2])
-            triangles.append([int(w) - 1 for w in words[3 + ntags:6 + ntags]])
-    return np.array(triangles)
+            triangles.append([ids[int(w)] for w in words[3 + ntags:6 + ntags]])
+    return xy, np.array(triangles, dtype=int)
 
 
 def fig2_deformed(results, out):
@@ -64,13 +82,13 @@ def fig2_deformed(results, out):
     fig, axes = plt.subplots(1, 2, sharey=True)
     for ax, problem in zip(axes, PROBLEMS):
         folder = os.path.join(results, f"paper-{problem}")
-        _, f = read_table(os.path.join(folder, "fields.txt"))
-        triangles = read_msh22_triangles(os.path.join(folder, "mesh.msh"))
+        p, f = read_table(os.path.join(folder, "fields.txt"))
+        _, triangles = read_msh22_mesh(os.path.join(folder, "mesh.msh"))
         tri = mtri.Triangulation(f["x"] + f["u_x"], f["y"] + f["u_y"], triangles)
         ax.triplot(tri, color="0.3", linewidth=0.3)
         ax.axhline(0.0, color="tab:red", linewidth=1.0, label="undeformed contact line y = 0")
         ax.set_aspect("equal")
-        ax.set_title(f"{problem} problem: deformed mesh at T (true scale)")
+        ax.set_title(f"{problem_label(p)}: deformed mesh at T (true scale)")
         ax.set_xlabel("x [m]")
         ax.legend(loc="upper right")
     axes[0].set_ylabel("y [m]")
@@ -88,9 +106,9 @@ def fig3_contact_reactions(results, out):
         ax.plot(c["x"], c["lambda_tau"], "s-", label=r"tangential stress $\lambda_\tau$")
         ax.plot(c["x"], c["friction_bound"], "k-", linewidth=0.8, label=r"friction bound $\mu p(v_\nu)$")
         ax.plot(c["x"], -c["friction_bound"], "k-", linewidth=0.8)
-        ax.set_title(f"{problem} problem: contact stresses on $\\Gamma_3$ at T = {p['T']}")
+        ax.set_title(f"{problem_label(p)}: contact stresses on $\\Gamma_3$ at T = {p['T']}")
         ax.set_xlabel("x [m]")
-        ax.legend()
+        ax.legend(loc="center right", fontsize=8)   # the band between p(g) and lambda_nu on CD is empty
     axes[0].set_ylabel("stress [GPa]")
     return save(fig, out, "fig3_contact_reactions")
 
@@ -117,11 +135,173 @@ def fig4_velocities(results, out):
                 ax.axvspan(xs.min(), xs.max(), color=color, alpha=0.12)
                 ax.text(0.5 * (xs.min() + xs.max()), 1.12 * g, f"{name}: {count} nodes", ha="center", fontsize=8)
         ax.set_ylim(top=1.25 * g)
-        ax.set_title(f"{problem} problem: velocities on $\\Gamma_3$ at T = {p['T']}")
+        ax.set_title(f"{problem_label(p)}: velocities on $\\Gamma_3$ at T = {p['T']}")
         ax.set_xlabel("x [m]")
-        ax.legend(loc="lower left")
+        ax.legend(loc="center right")          # CD: v_nu = g, v_tau = 0 leave this corner empty
     axes[0].set_ylabel("velocity [m/s]")
     return save(fig, out, "fig4_velocities")
+
+
+def require(path, producer):
+    """Exit with a message naming the missing input and what writes it."""
+    if not os.path.isfile(path):
+        sys.exit(f"figures.py: error: missing {path} (written by {producer})")
+    return path
+
+
+def eps_study_runs(results):
+    """{eps: folder} of the runs of DIR/eps-study (eps from the '# eps' line of contact.txt)."""
+    parent = os.path.join(results, "eps-study")
+    runs = {}
+    for name in sorted(os.listdir(parent)) if os.path.isdir(parent) else []:
+        path = os.path.join(parent, name, "contact.txt")
+        if os.path.isfile(path):
+            runs[float(read_table(path)[0]["eps"])] = os.path.join(parent, name)
+    return runs
+
+
+def fig5_penalty_convergence(results, out, shown=(1e-1, 1e-2, 1e-3, 1e-5)):
+    """Fig. 5: v_nu on Gamma3 at T for several eps and the original problem (left);
+    ||v_eps - v||_L2(Omega) at T against eps, from eps_study.txt, with the fitted tail slope (right)."""
+    study, e = read_table(require(os.path.join(results, "eps-study", "eps_study.txt"), "plots/tables.py"))
+    runs = eps_study_runs(results)
+    fig, (left, right) = plt.subplots(1, 2)
+    colors = plt.cm.viridis(np.linspace(0.0, 0.85, len(shown)))
+    for eps, color in zip(shown, colors):
+        if eps in runs:
+            _, c = read_table(os.path.join(runs[eps], "contact.txt"))
+            left.plot(c["x"], c["v_nu"], "o-", color=color, markersize=2, label=f"penalty, $\\varepsilon$ = {eps:g}")
+    p, c = read_table(require(os.path.join(results, "paper-original", "contact.txt"), "./run.sh"))
+    left.plot(c["x"], c["v_nu"], "k-", linewidth=2.5, zorder=0, label="original problem")
+    g = float(p["g"])
+    left.axhline(g, color="tab:red", linewidth=0.8, linestyle="--", label=f"bound g = {g:g}")
+    left.set_title(f"normal velocity on $\\Gamma_3$ at T = {p['T']}")
+    left.set_xlabel("x [m]")
+    left.set_ylabel(r"$v_\nu$ [m/s]")
+    left.legend(loc="upper left", fontsize=7)
+    right.loglog(e["eps"], e["error_L2"], "o", markersize=6, label="penalty runs")
+    tail = np.array([float(t) for t in study["tail_eps"].split(",")])
+    slope = float(study["slope_tail"])
+    on_tail = np.isin(e["eps"], tail)
+    intercept = np.mean(np.log(e["error_L2"][on_tail]) - slope * np.log(e["eps"][on_tail]))
+    span = np.array([tail.min(), tail.max()])
+    right.loglog(span, np.exp(intercept) * span**slope, "k-", linewidth=0.8,
+                 label=f"least-squares fit on the {on_tail.sum()} smallest $\\varepsilon$")
+    right.text(0.05, 0.92, f"fitted slope {slope:.4f}", transform=right.transAxes, fontsize=10)
+    right.set_title(f"penalty solution against the original one ({study['reference']}) at T")
+    right.set_xlabel(r"penalty parameter $\varepsilon$")
+    right.set_ylabel(r"$\|v_\varepsilon - v\|_{L^2(\Omega)}$, consistent mass matrix [m$^2$/s]")
+    right.legend(loc="lower right")
+    return save(fig, out, "fig5_penalty_convergence")
+
+
+def applied_normal_load(folder, params, t):
+    """The total traction pushing toward the foundation, load t |Gamma2| (traction . n), where
+    the scene names its traction direction and contact normal; None when it does not."""
+    scene, length = {}, 0.0
+    path = os.path.join(folder, "scene.scene")
+    if not os.path.isfile(path):
+        return None
+    with open(path) as f:
+        for line in f:
+            words = line.split()
+            if len(words) == 3 and words[0] in ("traction", "contact_normal"):
+                scene[words[0]] = np.array([float(words[1]), float(words[2])])
+    if len(scene) < 2:
+        return None
+    xy = {}
+    with open(os.path.join(folder, "mesh.msh")) as f:
+        text = f.read().split("\n")
+    start = text.index("$Nodes")
+    for line in text[start + 2:start + 2 + int(text[start + 1])]:
+        words = line.split()
+        xy[words[0]] = np.array([float(words[1]), float(words[2])])
+    start = text.index("$Elements")
+    for line in text[start + 2:start + 2 + int(text[start + 1])]:
+        words = line.split()
+        if words[1] == "1" and words[3] == "3":          # 2-node line, first tag = physical curve 3 (Gamma2)
+            ntags = int(words[2])
+            a, b = words[3 + ntags:5 + ntags]
+            length += float(np.hypot(*(xy[a] - xy[b])))
+    normal = scene["contact_normal"] / np.hypot(*scene["contact_normal"])
+    return float(params["load"]) * t * length * float(scene["traction"] @ normal)
+
+
+def contact_forces_history(results, out):
+    """Total contact forces on Gamma3 against t: sum_i w_i p_nu,i and sum_i w_i lambda_tau,i."""
+    fig, (left, right) = plt.subplots(1, 2)
+    for problem, style in zip(PROBLEMS, ("-", "--")):
+        p, h = read_table(os.path.join(results, f"paper-{problem}", "contact_history.txt"))
+        left.plot(h["t"], h["normal_force"], style, label=problem_label(p))
+        right.plot(h["t"], h["tangential_force"], style, label=problem_label(p))
+    folder = os.path.join(results, "paper-original")
+    p, h = read_table(os.path.join(folder, "contact_history.txt"))
+    applied = applied_normal_load(folder, p, h["t"])
+    if applied is not None:
+        left.plot(h["t"], applied, "k:", linewidth=0.8, label=r"applied traction $\int_{\Gamma_2} f_2 \cdot \nu_{\Gamma_3}$")
+    left.set_title(r"normal force $\sum_i w_i\, p_{\nu,i}$ on $\Gamma_3$")
+    right.set_title(r"tangential force $\sum_i w_i\, \lambda_{\tau,i}$ on $\Gamma_3$")
+    for ax in (left, right):
+        ax.set_xlabel("t [s]")
+        ax.set_ylabel("force per unit thickness [GPa m]")
+        ax.legend()
+    return save(fig, out, "contact_forces_history")
+
+
+ENERGY_TERMS = (("kinetic", "kinetic", False), ("elastic", "elastic", False),
+                ("numerical_dissipation", "numerical dissipation (cumulative)", True),
+                ("viscous_dissipation", "viscous dissipation (cumulative)", True),
+                ("contact_dissipation", "contact dissipation (cumulative)", True),
+                ("external_work", "external work (cumulative)", True))
+
+
+def energy_history(results, out):
+    """Discrete energy balance (DESIGN.md section 5): the energies and the cumulative
+    dissipations and work against t (left, log scale), the per-step residual (right)."""
+    fig, (left, right) = plt.subplots(1, 2)
+    colors = plt.rcParams["axes.prop_cycle"].by_key()["color"]
+    for problem, style in zip(PROBLEMS, ("-", "--")):
+        p, h = read_table(os.path.join(results, f"paper-{problem}", "history.txt"))
+        for (column, label, cumulative), color in zip(ENERGY_TERMS, colors):
+            values = np.cumsum(h[column]) if cumulative else h[column]
+            left.semilogy(h["t"], values, style, color=color, label=label if problem == "original" else None)
+        residual = np.where(h["energy_residual"] > 0, h["energy_residual"], np.nan)   # log scale: 0 is not drawn
+        right.semilogy(h["t"], residual, style, marker="o", markersize=2, label=problem_label(p))
+    left.plot([], [], "k-", label="original problem")
+    left.plot([], [], "k--", label="penalty problem")
+    left.set_title("energies at $t_n$ and cumulative dissipations and work")
+    left.set_xlabel("t [s]")
+    left.set_ylabel("energy per unit thickness [GJ/m]")
+    left.legend(fontsize=7, loc="lower right")
+    right.set_title("energy balance residual of each step (relative to its largest term)")
+    right.set_xlabel("t [s]")
+    right.set_ylabel("|balance| / largest term")
+    right.legend()
+    return save(fig, out, "energy_history")
+
+
+def zone_boundaries(results, out):
+    """Zone boundaries x_B (first node at the bound) and x_C (first sticking node in contact)
+    against t (left), and the zone counts AB, BC, CD (right); nan (not drawn) where absent."""
+    fig, (left, right) = plt.subplots(1, 2)
+    for problem, style in zip(PROBLEMS, ({"linestyle": "-"}, {"linestyle": "none", "marker": "o", "markersize": 2.5})):
+        p, h = read_table(os.path.join(results, f"paper-{problem}", "contact_history.txt"))
+        name = problem_label(p)
+        left.plot(h["t"], h["x_B"], color="tab:orange", label=f"$x_B$, {name}", **style)
+        left.plot(h["t"], h["x_C"], color="tab:purple", label=f"$x_C$, {name}", **style)
+        counts = {"AB (damped, slip)": h["zone_damped_slip"], "BC (at the bound, slip)": h["zone_bound_slip"],
+                  "CD (stick)": h["zone_damped_stick"] + h["zone_bound_stick"]}
+        for (zone, count), color in zip(counts.items(), ("tab:green", "tab:orange", "tab:purple")):
+            right.plot(h["t"], count, color=color, label=f"{zone}, {problem}", **style)
+    left.set_title("zone boundaries on $\\Gamma_3$")
+    left.set_xlabel("t [s]")
+    left.set_ylabel("x [m]")
+    left.legend(fontsize=7)
+    right.set_title("nodes per zone on $\\Gamma_3$")
+    right.set_xlabel("t [s]")
+    right.set_ylabel("nodes")
+    right.legend(fontsize=7)
+    return save(fig, out, "zone_boundaries")
 
 
 def save(fig, out, name):
@@ -133,7 +313,9 @@ def save(fig, out, name):
     return path
 
 
-FIGURES = {"fig2": fig2_deformed, "fig3": fig3_contact_reactions, "fig4": fig4_velocities}
+FIGURES = {"fig2": fig2_deformed, "fig3": fig3_contact_reactions, "fig4": fig4_velocities,
+           "fig5": fig5_penalty_convergence, "contact_forces_history": contact_forces_history,
+           "energy_history": energy_history, "zone_boundaries": zone_boundaries}
 
 
 def main():

@@ -225,6 +225,8 @@ expect_failure "maxit < 1" 2 "option -maxit = 0 is out of range: it must be >= 1
 expect_failure "r <= 0" 2 "option -r = 0 is out of range: it must be > 0" -r 0
 expect_failure "unknown problem" 2 "option -problem = 'dual' is not one of original\|penalty" -problem dual
 expect_failure "unknown solver" 2 "option -solver = 'cg' is not one of newton.fixedpoint.full" -solver cg
+expect_failure "unknown safeguard" 2 "option -safeguard = 'maybe' is not one of on.off" -safeguard maybe
+expect_failure "unknown penalty form" 2 "option -penaltyform = 'soft' is not one of compliant.literal" -penaltyform soft
 expect_failure "unknown scene" 2 "option -scene = 'moon'" -scene moon
 expect_failure "scene file with a bad line" 3 "cannot read 'gravity 9.81'" -scene tests/data/bad.scene
 expect_failure "missing mesh file" 3 "cannot read the file" -mesh "$work/no-such.msh"

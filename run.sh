@@ -5,6 +5,8 @@
 #   ./run.sh test [--bless CASE]   the test harness (ends with "N passed, N failed")
 #   ./run.sh solve [options] one run of edp/solve.edp (options: see README.md)
 #   ./run.sh figures [name]  redraw figures from existing results
+#   ./run.sh bench [--quick] the benchmark: cost per step, work-precision (results/bench)
+#   ./run.sh stability [--quick]  where each method fails (results/stability)
 # Checks for FreeFem++, gmsh, numdiff and python3 with matplotlib first, and installs
 # what is missing with apt-get when run as root (otherwise prints the command).
 set -euo pipefail
@@ -12,7 +14,7 @@ here="$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)"
 
 # Debian's python3-matplotlib is installed for /usr/bin/python3 only: use it everywhere.
 PYTHON=/usr/bin/python3
-PACKAGES=(freefem++ libfreefem++ gmsh numdiff python3 python3-numpy python3-matplotlib libopenblas0-pthread)
+PACKAGES=(freefem++ libfreefem++ gmsh numdiff python3 python3-numpy python3-matplotlib libopenblas0-pthread time)
 
 missing_dependencies() {
   command -v FreeFem++-nw >/dev/null 2>&1 || return 0
@@ -21,6 +23,7 @@ missing_dependencies() {
   command -v numdiff >/dev/null 2>&1 || return 0
   "$PYTHON" -c 'import numpy, matplotlib' >/dev/null 2>&1 || return 0
   [ -e /usr/lib/x86_64-linux-gnu/openblas-pthread/libblas.so.3 ] || [ ! -d /usr/lib/x86_64-linux-gnu ] || return 0
+  [ -x /usr/bin/time ] || return 0
   return 1
 }
 
@@ -92,7 +95,9 @@ case "$command" in
   main) ensure_dependencies; main_job ;;
   solve) ensure_dependencies; solve "$@" ;;
   test) ensure_dependencies; exec bash "$here/tests/run_tests.sh" "$@" ;;
+  bench) ensure_dependencies; exec bash "$here/bench/bench.sh" "$@" ;;
+  stability) ensure_dependencies; exec bash "$here/bench/stability.sh" "$@" ;;
   figures) ensure_dependencies; "$PYTHON" "$here/plots/figures.py" --results "${RESULTS_DIR:-$here/results}" --out "${RESULTS_DIR:-$here/results}/figures" "$@" ;;
-  -h|--help|help) sed -n '2,9p' "$0" | sed 's/^# \{0,1\}//' ;;
-  *) echo "run.sh: error: unknown command '$command' (commands: solve, test, figures, or none for the main job)" >&2; exit 2 ;;
+  -h|--help|help) sed -n '2,11p' "$0" | sed 's/^# \{0,1\}//' ;;
+  *) echo "run.sh: error: unknown command '$command' (commands: solve, test, figures, bench, stability, or none for the main job)" >&2; exit 2 ;;
 esac

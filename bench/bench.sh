@@ -1,0 +1,95 @@
+#!/usr/bin/env bash
+# bench.sh: the benchmark behind ./run.sh bench [--quick]. Not a test: these machines are
+# shared and noisy, so read ratios measured in the same run (each run of edp/solve.edp
+# times its own floor, one back-substitution with S, next to its median step).
+#
+# Writes under ${RESULTS_DIR:-results}/bench/:
+#   runs/NAME/          one folder per run (the outputs of edp/solve.edp), NAME.time
+#                       (wall seconds and peak memory of the whole process)
+#   steps.txt           cost per step and setup costs against the mesh, per solver mode
+#   iterations.txt      iterations per step against the augmentation r, Newton and fixed point
+#   work_precision.txt  error against wall time for meshes, time steps, modes and eps
+#   *.png               the charts (plots/bench.py)
+# --quick: the two coarsest meshes and fewer points (a few minutes instead of ~15).
+# Runs one solve at a time, so that the timings are not disturbed by a second process.
+set -euo pipefail
+root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
+cd "$root"
+PYTHON="${PYTHON:-/usr/bin/python3}"
+out="${RESULTS_DIR:-$root/results}/bench"
+quick=0
+case "${1:-}" in
+  --quick) quick=1 ;;
+  "") ;;
+  *) echo "bench.sh: error: unknown argument '$1' (usage: bench.sh [--quick])" >&2; exit 2 ;;
+esac
+rm -rf "$out"
+mkdir -p "$out/runs"
+start=$(date +%s)
+
+# run NAME OPTIONS...: one solve, timed as a whole process (wall seconds, peak KB)
+run() {
+  local name="$1"; shift
+  local dir="$out/runs/$name"
+  if /usr/bin/time -f "%e %M" -o "$dir.time" FreeFem++-nw -ns -v 0 edp/solve.edp "$@" -out "$dir" > "$dir.log" 2>&1; then
+    printf 'bench: %-34s %7.2f s  %s\n' "$name" "$(cut -d' ' -f1 "$dir.time")" "$(grep -o '[0-9]* iterations (max [0-9]*/step)' "$dir.log")"
+  else
+    printf 'bench: %-34s failed: %s\n' "$name" "$(grep -m1 'error' "$dir.log" | cut -c1-120)"
+  fi
+}
+
+# ---- cost per step against the mesh (T = 1, k = 0.01 unless said)
+meshes=("66 33" "132 66" "264 132")
+[ "$quick" = 1 ] && meshes=("66 33" "132 66")
+for m in "${meshes[@]}"; do
+  set -- $m
+  for problem in original penalty; do
+    run "steps-${1}x${2}-newton-$problem" -nx "$1" -ny "$2" -problem "$problem"
+  done
+done
+if [ "$quick" = 0 ]; then
+  # 528x264: the condensation (one solve per contact unknown, 1057 of them) dominates;
+  # 20 steps (T = 0.2) and the original problem only, to fit the time budget.
+  run "steps-528x264-newton-original" -nx 528 -ny 264 -T 0.2
+fi
+# The full-system Newton re-factorizes at every iteration: 20 steps on the two coarsest meshes.
+for m in "66 33" "132 66"; do
+  set -- $m
+  run "steps-${1}x${2}-full-original" -nx "$1" -ny "$2" -T 0.2 -solver full
+done
+# The fixed point converges only early in the run (README): 5 steps on the paper mesh.
+run "steps-66x33-fixedpoint-original" -T 0.05 -solver fixedpoint -maxit 100000
+run "steps-66x33-newton-original-T0.05" -T 0.05
+
+# ---- iterations against the augmentation r (paper mesh)
+for r in 0.01 0.1 1 10 100; do
+  run "iterations-newton-r$r" -r "$r" -maxit 200
+done
+for r in 0.001 0.003 0.01 0.03; do
+  run "iterations-fixedpoint-r$r" -T 0.05 -solver fixedpoint -r "$r" -maxit 100000
+done
+
+# ---- work-precision: error against wall time, against a fine reference solution
+reference="264 132"; refdt=0.0025
+[ "$quick" = 1 ] && { reference="132 66"; refdt=0.005; }
+set -- $reference
+run "reference-${1}x${2}-dt$refdt" -nx "$1" -ny "$2" -dt "$refdt"
+refdir="$out/runs/reference-${1}x${2}-dt$refdt"
+for m in "16 8" "33 16" "66 33" "132 66"; do
+  set -- $m
+  run "wp-mesh-${1}x${2}" -nx "$1" -ny "$2"
+done
+for dt in 0.04 0.02 0.005; do
+  run "wp-dt-$dt" -dt "$dt"
+done
+run "wp-full-66x33" -solver full
+for eps in 1e-2 1e-3 1e-4 1e-5; do
+  run "wp-penalty-eps$eps" -problem penalty -eps "$eps"
+done
+for dir in "$out"/runs/wp-*; do
+  [ -f "$dir/summary.txt" ] || continue
+  FreeFem++-nw -ns -v 0 edp/compare.edp -a "$dir" -ref "$refdir" > "$dir.error" 2> /dev/null || true
+done
+
+"$PYTHON" plots/bench.py --bench "$out" --reference "$refdir"
+echo "bench: done in $(( $(date +%s) - start )) s; tables and charts in $out"

@@ -1,0 +1,216 @@
+#!/usr/bin/python3
+"""Tables and charts of the benchmark (bench/bench.sh, ./run.sh bench).
+
+Reads the run folders bench/runs/NAME (summary.txt of edp/solve.edp, NAME.time with the
+wall seconds and peak memory of the process, NAME.error from edp/compare.edp) and writes
+  steps.txt, iterations.txt, work_precision.txt   (plain text, '#' header naming the columns)
+  bench_cost_per_step.png, bench_work_precision.png, bench_iterations.png
+Usage: bench.py --bench DIR --reference RUN_DIR
+"""
+import argparse
+import math
+import os
+import re
+import sys
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from figures import STYLE, save  # noqa: E402
+from tables import read_summary, write_table  # noqa: E402
+
+NAN = float("nan")
+
+
+def run_record(bench, name):
+    """What one run measured: its summary (empty if it failed), wall, peak memory, error."""
+    folder = os.path.join(bench, "runs", name)
+    record = {"name": name, "converged": os.path.isfile(os.path.join(folder, "summary.txt"))}
+    record["summary"] = read_summary(folder) if record["converged"] else {}
+    wall, peak = NAN, NAN
+    if os.path.isfile(folder + ".time"):
+        words = open(folder + ".time").read().split()
+        try:
+            wall, peak = float(words[-2]), float(words[-1]) / 1024.0
+        except (ValueError, IndexError):
+            pass
+    record["wall"], record["peak_MB"] = wall, peak
+    record["error"] = {}
+    if os.path.isfile(folder + ".error"):
+        words = open(folder + ".error").read().split()
+        record["error"] = {words[i]: float(words[i + 1]) for i in range(0, len(words) - 1, 2)}
+    return record
+
+
+def value(record, key):
+    try:
+        return float(record["summary"][key])
+    except (KeyError, ValueError):
+        return NAN
+
+
+def all_names(bench, prefix):
+    """Every run started with this prefix, converged or not (its .time file exists)."""
+    runs = os.path.join(bench, "runs")
+    found = {n[:-5] for n in os.listdir(runs) if n.endswith(".time") and n.startswith(prefix)}
+    return sorted(found)
+
+
+def steps_table(bench):
+    rows = []
+    for name in all_names(bench, "steps-"):
+        m = re.match(r"steps-(\d+)x(\d+)-(\w+)-(original|penalty)(.*)", name)
+        if not m:
+            continue
+        r = run_record(bench, name)
+        steps = value(r, "steps")
+        its = value(r, "iterations_total")
+        backsub, median = value(r, "time_backsubstitution"), value(r, "time_step_median")
+        rows.append([name, f"{m.group(1)}x{m.group(2)}", int(value(r, "dofs")) if r["converged"] else -1,
+                     int(value(r, "contact_slots")) if r["converged"] else -1, m.group(3), m.group(4),
+                     int(steps) if r["converged"] else -1, int(r["converged"]), r["wall"],
+                     value(r, "time_assembly"), value(r, "time_factorization"), value(r, "time_condensation"),
+                     backsub, median, median / backsub if backsub > 0 else NAN,
+                     its / steps if steps > 0 else NAN, value(r, "iterations_max"), r["peak_MB"]])
+    columns = ("run mesh dofs contact_slots mode problem steps converged wall time_assembly time_factorization "
+               "time_condensation time_backsubstitution time_step_median step_over_floor iterations_mean "
+               "iterations_max peak_memory_MB").split()
+    write_table(os.path.join(bench, "steps.txt"),
+                ["cost per time step: time_step_median (CPU s) against the floor time_backsubstitution (one solve",
+                 "with the factorized S, median of 5, same run); setup times and wall in wall seconds; peak memory",
+                 "of the whole FreeFEM process"], columns, rows)
+    return columns, rows
+
+
+def iterations_table(bench):
+    rows = []
+    for name in all_names(bench, "iterations-"):
+        m = re.match(r"iterations-(\w+)-r(.*)", name)
+        r = run_record(bench, name)
+        steps = value(r, "steps")
+        rows.append([m.group(1), float(m.group(2)), int(r["converged"]),
+                     value(r, "iterations_total") / steps if steps > 0 else NAN, value(r, "iterations_max"),
+                     value(r, "time_loop"), int(value(r, "augmentation_halvings")) if r["converged"] else -1,
+                     int(value(r, "line_search_cuts")) if r["converged"] else -1])
+    columns = "mode r converged iterations_mean iterations_max time_loop augmentation_halvings line_search_cuts".split()
+    write_table(os.path.join(bench, "iterations.txt"),
+                ["iterations per step against the augmentation factor r (r_j = r/(Dw)_jj for Newton, r/(D0)_jj",
+                 "for the fixed point), paper mesh; the fixed point on 5 steps (T = 0.05)"], columns, rows)
+    return columns, rows
+
+
+def work_precision_table(bench, reference):
+    rows = []
+    for name in all_names(bench, "wp-"):
+        r = run_record(bench, name)
+        family = name.split("-")[1]
+        e = r["error"]
+        rel = e.get("error_L2", NAN) / e["norm_L2"] if e.get("norm_L2") else NAN
+        rows.append([name, family, int(r["converged"]), r["wall"], e.get("error_L2", NAN), rel, e.get("error_gamma3", NAN)])
+    columns = "run family converged wall error_L2 relative_error_L2 error_gamma3".split()
+    write_table(os.path.join(bench, "work_precision.txt"),
+                [f"error at T against the reference {os.path.basename(reference)} (edp/compare.edp:",
+                 "||v - v_ref||_L2(Omega) with the consistent mass matrix of the reference mesh, and max |dv_nu| on",
+                 "Gamma3), against the wall seconds of the whole process"], columns, rows)
+    return columns, rows
+
+
+def chart_cost_per_step(bench, columns, rows):
+    c = {name: i for i, name in enumerate(columns)}
+    fig, (left, right) = plt.subplots(1, 2)
+    floor_pts = sorted({(r[c["dofs"]], r[c["time_backsubstitution"]]) for r in rows if r[c["converged"]]})
+    for (mode, problem), style in ((("newton", "original"), "o-"), (("newton", "penalty"), "s--"),
+                                   (("full", "original"), "^-"), (("fixedpoint", "original"), "v-")):
+        pts = sorted((r[c["dofs"]], r[c["time_step_median"]]) for r in rows
+                     if r[c["mode"]] == mode and r[c["problem"]] == problem and r[c["converged"]]
+                     and not r[c["run"]].endswith("T0.05"))
+        if pts:
+            left.loglog(*zip(*pts), style, label=f"{mode}, {problem}")
+    if floor_pts:
+        left.loglog(*zip(*floor_pts), "k:", linewidth=2, label="floor: one back-substitution with S")
+        left.loglog([p[0] for p in floor_pts], [2 * p[1] for p in floor_pts], color="0.6", linewidth=1,
+                    label="2 x floor")
+    left.set_xlabel("degrees of freedom")
+    left.set_ylabel("CPU seconds per time step (median)")
+    left.set_title("cost of a time step")
+    left.legend(fontsize=7)
+    for key, style in (("time_assembly", "o-"), ("time_factorization", "s-"), ("time_condensation", "^-")):
+        pts = sorted({(r[c["dofs"]], r[c[key]]) for r in rows
+                      if r[c["mode"]] == "newton" and r[c["problem"]] == "original" and r[c["converged"]]})
+        if pts:
+            right.loglog(*zip(*pts), style, label=key.replace("time_", ""))
+    right.set_xlabel("degrees of freedom")
+    right.set_ylabel("wall seconds, once per run")
+    right.set_title("setup costs (Newton, original)")
+    right.legend(fontsize=7)
+    return save(fig, bench, "bench_cost_per_step")
+
+
+def chart_work_precision(bench, columns, rows):
+    c = {name: i for i, name in enumerate(columns)}
+    fig, ax = plt.subplots(figsize=(7, 4.5))
+    labels = {"mesh": "mesh h (k = 0.01)", "dt": "time step k (66x33)", "full": "full-system Newton (66x33)",
+              "penalty": "penalty eps (66x33, against the original reference)"}
+    for family, marker in (("mesh", "o-"), ("dt", "s-"), ("full", "^"), ("penalty", "v-")):
+        pts = sorted((r[c["wall"]], r[c["relative_error_L2"]], r[c["run"]]) for r in rows
+                     if r[c["family"]] == family and r[c["converged"]] and not math.isnan(r[c["relative_error_L2"]]))
+        if not pts:
+            continue
+        ax.loglog([p[0] for p in pts], [p[1] for p in pts], marker, label=labels[family])
+        for p in pts:
+            ax.annotate(p[2].split("-", 2)[-1], (p[0], p[1]), fontsize=6, xytext=(3, 3), textcoords="offset points")
+    ax.set_xlabel("wall seconds of the whole run (FreeFEM start-up included)")
+    ax.set_ylabel(r"$\|v - v_{ref}\|_{L^2(\Omega)} / \|v_{ref}\|$ at T")
+    ax.set_title("work and precision")
+    ax.legend(fontsize=7)
+    return save(fig, bench, "bench_work_precision")
+
+
+def chart_iterations(bench, columns, rows):
+    c = {name: i for i, name in enumerate(columns)}
+    fig, ax = plt.subplots(figsize=(7, 4.5))
+    for mode, style in (("newton", "o-"), ("fixedpoint", "s-")):
+        pts = sorted((r[c["r"]], r[c["iterations_mean"]], r[c["iterations_max"]], r[c["converged"]]) for r in rows
+                     if r[c["mode"]] == mode)
+        ok = [p for p in pts if p[3]]
+        if ok:
+            ax.loglog([p[0] for p in ok], [p[1] for p in ok], style, label=f"{mode}: mean per step")
+            ax.loglog([p[0] for p in ok], [p[2] for p in ok], style, alpha=0.4, label=f"{mode}: max per step")
+        for p in pts:
+            if not p[3]:
+                ax.axvline(p[0], color="tab:red" if mode == "newton" else "tab:orange", linestyle=":", linewidth=1)
+    ax.set_xlabel("augmentation factor r")
+    ax.set_ylabel("iterations per time step")
+    ax.set_title("Newton and fixed point against r (dotted: did not converge)")
+    ax.legend(fontsize=7)
+    return save(fig, bench, "bench_iterations")
+
+
+def main():
+    parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    parser.add_argument("--bench", required=True)
+    parser.add_argument("--reference", required=True)
+    args = parser.parse_args()
+    plt.rcParams.update(STYLE)
+    columns, rows = steps_table(args.bench)
+    c = {name: i for i, name in enumerate(columns)}
+    print(f"  {'run':40s} {'dofs':>7s} {'floor ms':>9s} {'step ms':>9s} {'ratio':>6s} {'it/step':>7s} {'setup s':>8s} {'MB':>6s}")
+    for r in rows:
+        setup = r[c["time_assembly"]] + r[c["time_factorization"]] + r[c["time_condensation"]]
+        print(f"  {r[0]:40s} {r[c['dofs']]:7d} {1e3 * r[c['time_backsubstitution']]:9.2f} "
+              f"{1e3 * r[c['time_step_median']]:9.2f} {r[c['step_over_floor']]:6.2f} {r[c['iterations_mean']]:7.2f} "
+              f"{setup:8.2f} {r[c['peak_memory_MB']]:6.0f}")
+    chart_cost_per_step(args.bench, columns, rows)
+    icolumns, irows = iterations_table(args.bench)
+    chart_iterations(args.bench, icolumns, irows)
+    wcolumns, wrows = work_precision_table(args.bench, args.reference)
+    chart_work_precision(args.bench, wcolumns, wrows)
+    for r in wrows:
+        print(f"  {r[0]:28s} wall {r[3]:7.2f} s  relative L2 error {r[5]:.3e}  max |dv_nu| on Gamma3 {r[6]:.3e}")
+
+
+if __name__ == "__main__":
+    main()

@@ -121,7 +121,11 @@ def work_precision_table(bench, reference):
 def chart_cost_per_step(bench, columns, rows):
     c = {name: i for i, name in enumerate(columns)}
     fig, (left, right) = plt.subplots(1, 2)
-    floor_pts = sorted({(r[c["dofs"]], r[c["time_backsubstitution"]]) for r in rows if r[c["converged"]]})
+    floors = {}
+    for r in rows:
+        if r[c["converged"]]:
+            floors.setdefault(r[c["dofs"]], []).append(r[c["time_backsubstitution"]])
+    floor_pts = sorted((dofs, sorted(f)[len(f) // 2]) for dofs, f in floors.items())   # median per mesh
     for (mode, problem), style in ((("newton", "original"), "o-"), (("newton", "penalty"), "s--"),
                                    (("full", "original"), "^-"), (("fixedpoint", "original"), "v-")):
         pts = sorted((r[c["dofs"]], r[c["time_step_median"]]) for r in rows
@@ -149,14 +153,23 @@ def chart_cost_per_step(bench, columns, rows):
     return save(fig, bench, "bench_cost_per_step")
 
 
+def parameter_order(name):
+    """Sort key of a work-precision run: its mesh size, time step or eps, finest last."""
+    numbers = [float(x) for x in re.findall(r"\d+(?:\.\d+)?(?:e-?\d+)?", name.split("-", 2)[-1])]
+    if not numbers:
+        return 0.0
+    return numbers[0] if "mesh" in name else -numbers[0]
+
+
 def chart_work_precision(bench, columns, rows):
     c = {name: i for i, name in enumerate(columns)}
     fig, ax = plt.subplots(figsize=(7, 4.5))
     labels = {"mesh": "mesh h (k = 0.01)", "dt": "time step k (66x33)", "full": "full-system Newton (66x33)",
               "penalty": "penalty eps (66x33, against the original reference)"}
     for family, marker in (("mesh", "o-"), ("dt", "s-"), ("full", "^"), ("penalty", "v-")):
-        pts = sorted((r[c["wall"]], r[c["relative_error_L2"]], r[c["run"]]) for r in rows
-                     if r[c["family"]] == family and r[c["converged"]] and not math.isnan(r[c["relative_error_L2"]]))
+        pts = sorted(((r[c["wall"]], r[c["relative_error_L2"]], r[c["run"]]) for r in rows
+                      if r[c["family"]] == family and r[c["converged"]] and not math.isnan(r[c["relative_error_L2"]])),
+                     key=lambda p: parameter_order(p[2]))
         if not pts:
             continue
         ax.loglog([p[0] for p in pts], [p[1] for p in pts], marker, label=labels[family])

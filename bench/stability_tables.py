@@ -1,0 +1,388 @@
+#!/usr/bin/python3
+"""Tables of bench/stability.sh: one line per point, the cross-method agreement, the
+hopeless settings and a summary, from the records runs/SWEEP/ID.rec and the summary.txt
+of each converged run.
+
+Usage: stability_tables.py --results DIR        (DIR = results/stability)
+Writes DIR/SWEEP.txt for every sweep, DIR/agreement.txt, DIR/hopeless.txt and
+DIR/summary.txt; exits 1 if an agreement pair or a hopeless setting failed its check.
+
+Failure modes (column mode):
+  ok         converged, every end-of-run check passed (exit 0)
+  cycling    iteration cap; the residual at the failing step repeats exactly with a
+             period p of 2 to 4 iterations (probes at cap-1 ... cap-4)
+  stuck      iteration cap; the residual repeats every iteration (the iterate no longer moves)
+  floor      iteration cap with a residual within 100 tol that no longer decreases: the
+             round-off floor of the residual is above tol
+  diverging  iteration cap; residual(cap) > 10 residual(cap/2)
+  stalled    iteration cap; residual(cap) between 0.5 and 10 times residual(cap/2)
+  slow       iteration cap; residual(cap) < 0.5 residual(cap/2): still converging
+  cap        iteration cap, not classified (the probes failed at another step)
+  nonfinite  exit 5 (non-finite residual, velocity or stress)
+  check      exit 9 (an end-of-run check failed)
+  timeout    killed by the time limit of the sweep
+  error      any other exit
+"""
+import argparse
+import glob
+import math
+import os
+import re
+import sys
+
+import numpy as np
+
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "tests"))
+from check_results import Checker  # noqa: E402
+
+AGREEMENT_RTOL = 1e-8
+# Defaults of the paper scene and of edp/lib/options.idp (README, "Running one case").
+DEFAULTS = {"scene": "paper", "problem": "original", "solver": "newton", "nx": "66", "ny": "33",
+            "T": "1", "dt": "0.01", "rho": "2e-6", "E": "100", "nu": "0.2", "muv": "0.25",
+            "eta": "0.5", "load": "10", "cnu": "50", "g": "0.05", "mu": "0.4", "eps": "2e-5",
+            "tol": "1e-10", "maxit": "50", "r": "1", "safeguard": "on", "penaltyform": "compliant",
+            "mesh": "none"}
+METHOD_OPTIONS = ("solver", "safeguard", "penaltyform", "r", "maxit", "out")
+# The paper box of the brief: mu 0..1.5, load 1..100 (0.1x to 10x), k 1e-4..0.2, eps >= 1e-12.
+COLUMNS = ("id method problem solver safeguard penaltyform nx ny T dt mu load eps r maxit exit mode period "
+           "fail_step fail_iterations fail_residual half_residual iter_mean iter_max steps halvings cuts "
+           "check_constraint check_penalty_law check_energy_residual wall_s").split()
+MESSAGE = re.compile(r"step (\d+) \(t = [^)]*\): the contact solver did not converge after (\d+) iterations "
+                     r"\(([^)]*)\), residual (\S+) > tol")
+
+
+def read_record(path):
+    record = {}
+    with open(path) as f:
+        for line in f:
+            key, _, value = line.rstrip("\n").partition("=")
+            record[key] = value
+    words = record["options"].split()
+    options = dict(DEFAULTS)
+    given = {}
+    for i in range(0, len(words) - 1, 2):
+        given[words[i].lstrip("-")] = words[i + 1]
+    options.update(given)
+    if options["solver"] == "fixedpoint" and "r" not in given:
+        options["r"] = "0.01"
+    record["opts"] = options
+    record["given"] = given
+    return record
+
+
+def method_name(o):
+    prefix = "orig" if o["problem"] == "original" else "pen"
+    if o["solver"] == "newton":
+        form = [o["penaltyform"]] if o["problem"] == "penalty" else []
+        return "-".join([prefix, "newton"] + form + [o["safeguard"]])
+    if o["solver"] == "fixedpoint":
+        return f"{prefix}-fixedpoint" + ("-off" if o["safeguard"] == "off" else "")
+    return f"{prefix}-{o['solver']}"
+
+
+def read_summary(folder):
+    summary = {}
+    path = os.path.join(folder, "summary.txt")
+    if not os.path.isfile(path):
+        return summary
+    with open(path) as f:
+        for line in f:
+            if line.startswith("#") or not line.strip():
+                continue
+            key, _, value = line.strip().partition(" ")
+            summary[key] = value
+    return summary
+
+
+def same(a, b):
+    return a == b or abs(a - b) <= 1e-9 * max(abs(a), abs(b))
+
+
+def classify(record):
+    """mode, period, failing step, its iterations, residual, residual at cap/2."""
+    code = int(record["exit"])
+    none = (float("nan"),) * 4
+    if code == 0:
+        return ("ok", 0) + none
+    if code in (124, 137):
+        return ("timeout", 0) + none
+    m = MESSAGE.search(record["message"])
+    step, iterations, residual = (int(m.group(1)), int(m.group(2)), float(m.group(4))) if m else (None, None, None)
+    fail = (step if m else float("nan"), iterations if m else float("nan"), residual if m else float("nan"))
+    if code == 5:
+        return ("nonfinite", 0) + fail + (float("nan"),)
+    if code == 9:
+        return ("check", 0) + none
+    if code != 4 or not m or "iteration cap" not in m.group(3):
+        return ("error", 0) + none
+    probes = {}
+    for item in filter(None, record["probes"].split(",")):
+        cap, pstep, pres = item.split(":")
+        if pstep != "ok" and int(pstep) == step and pres != "-":
+            probes[int(cap)] = float(pres)
+    cap = iterations
+    half = probes.get(cap // 2, float("nan"))
+    tol = float(record["opts"]["tol"])
+    period = next((d for d in range(1, 5) if cap - d in probes and same(probes[cap - d], residual)), 0)
+    if residual <= 100 * tol and (period or half <= 2 * residual):
+        mode = "floor"
+    elif period == 1:
+        mode = "stuck"
+    elif period:
+        mode = "cycling"
+    elif math.isnan(half):
+        mode = "cap"
+    elif residual > 10 * half:
+        mode = "diverging"
+    elif residual >= 0.5 * half:
+        mode = "stalled"
+    else:
+        mode = "slow"
+    return (mode, period) + fail + (half,)
+
+
+def fmt(value):
+    if isinstance(value, str):
+        return value if value else "-"
+    if isinstance(value, (int, np.integer)):
+        return str(value)
+    if value is None or (isinstance(value, float) and math.isnan(value)):
+        return "nan"
+    return f"{value:.6g}"
+
+
+def build_rows(results):
+    rows = []
+    for path in sorted(glob.glob(os.path.join(results, "runs", "*", "*.rec"))):
+        record = read_record(path)
+        o = record["opts"]
+        folder = path[:-4]
+        summary = read_summary(folder) if record["exit"] == "0" else {}
+        mode, period, step, iterations, residual, half = classify(record)
+
+        def num(key):
+            return float(summary[key]) if key in summary else float("nan")
+        steps = num("steps")
+        row = {"sweep": record["sweep"], "id": record["id"], "method": method_name(o), "problem": o["problem"],
+               "solver": o["solver"], "safeguard": o["safeguard"], "penaltyform": o["penaltyform"],
+               "nx": int(o["nx"]), "ny": int(o["ny"]), "T": float(o["T"]), "dt": float(o["dt"]),
+               "mu": float(o["mu"]), "load": float(o["load"]), "eps": float(o["eps"]), "r": float(o["r"]),
+               "maxit": int(o["maxit"]), "exit": int(record["exit"]), "mode": mode, "period": period,
+               "fail_step": step, "fail_iterations": iterations, "fail_residual": residual, "half_residual": half,
+               "iter_mean": num("iterations_total") / steps if steps else float("nan"),
+               "iter_max": num("iterations_max"), "steps": steps, "halvings": num("augmentation_halvings"),
+               "cuts": num("line_search_cuts"), "check_constraint": num("check_constraint"),
+               "check_penalty_law": num("check_penalty_law"), "check_energy_residual": num("check_energy_residual"),
+               "wall_s": float(record["wall"]), "folder": folder, "record": record}
+        rows.append(row)
+    return rows
+
+
+def write_table(path, rows, title):
+    with open(path, "w") as f:
+        f.write(f"# {title}\n")
+        f.write("# written by bench/stability_tables.py from runs/*/*.rec; mode: see its docstring;\n")
+        f.write("# iter_mean = iterations_total/steps, iter_max = iterations_max (converged runs);\n")
+        f.write("# fail_*: the failing step, its iteration count and residual; half_residual: the residual\n")
+        f.write("# of the same step with -maxit cap/2; period: of an exact cycle (0 none); wall_s: seconds\n")
+        f.write("# " + " ".join(COLUMNS) + "\n")
+        for row in rows:
+            f.write(" ".join(fmt(row[c]) for c in COLUMNS) + "\n")
+
+
+def physics_key(row):
+    o = row["record"]["opts"]
+    return tuple(sorted((k, v) for k, v in o.items()
+                        if k not in METHOD_OPTIONS and not (k == "eps" and o["problem"] == "original")
+                        and k != "penaltyform"))
+
+
+def method_rank(row):
+    o = row["record"]["opts"]
+    default = (o["solver"] == "newton" and o["safeguard"] == "on" and o["penaltyform"] == "compliant"
+               and float(o["r"]) == 1.0)
+    return (0 if default else 1, o["solver"] != "newton", row["sweep"], row["id"])
+
+
+def max_difference(folder, other, floors):
+    """Largest relative differences of the columns check_results.py --compare reads: its own
+    formula (scale = the column's largest |value|), and the same with the scale at least the
+    physical floor of the column (p(g) for stresses, g for velocities), so that a column that is
+    zero up to round-off (lambda_tau when mu = 0) does not count as a difference of 1."""
+    from check_results import read_table
+    plain, floored = 0.0, 0.0
+    for name, cols in (("contact.txt", ("v_nu", "v_tau", "p_nu", "lambda_nu", "lambda_tau")),
+                       ("fields.txt", ("u_x", "u_y", "v_x", "v_y"))):
+        _, ca, a = read_table(os.path.join(folder, name))
+        _, cb, b = read_table(os.path.join(other, name))
+        for col in cols:
+            x, y = a[:, ca.index(col)], b[:, cb.index(col)]
+            scale = max(np.abs(x).max(), np.abs(y).max(), 1e-300)
+            diff = np.abs(x - y).max()
+            plain = max(plain, diff / scale)
+            floored = max(floored, diff / max(scale, floors.get(col, 0.0)))
+    return plain, floored
+
+
+def agreement(rows):
+    groups = {}
+    for row in rows:
+        if row["mode"] == "ok" and row["sweep"] != "hopeless":
+            groups.setdefault(physics_key(row), []).append(row)
+    pairs = []
+    for key, members in groups.items():
+        seen, unique = set(), []
+        for row in sorted(members, key=method_rank):
+            mkey = tuple(row["record"]["opts"][k] for k in ("solver", "safeguard", "penaltyform", "r"))
+            if mkey not in seen:
+                seen.add(mkey)
+                unique.append(row)
+        if len(unique) < 2:
+            continue
+        reference = unique[0]
+        o = reference["record"]["opts"]
+        g = float(o["g"])
+        force = float(o["cnu"]) * g or 1.0
+        floors = {"v_nu": g, "v_tau": g, "v_x": g, "v_y": g, "p_nu": force, "lambda_nu": force, "lambda_tau": force}
+        for other in unique[1:]:
+            check = Checker(reference["folder"])
+            check.compare(other["folder"], AGREEMENT_RTOL)
+            plain, floored = max_difference(reference["folder"], other["folder"], floors)
+            pairs.append((reference, other, plain, floored, not check.failures, floored <= AGREEMENT_RTOL))
+    return pairs
+
+
+def label(row):
+    return f"{row['method']}(r={fmt(row['r'])})"
+
+
+def write_agreement(path, pairs):
+    with open(path, "w") as f:
+        f.write("# cross-method agreement: every converged run against the reference run of the same discrete\n")
+        f.write("# problem (same scene, mesh, T, k, mu, load, tol; eps for the penalty), i.e. differing only in\n")
+        f.write("# -solver, -safeguard, -penaltyform, -r, -maxit. Reference: Newton with safeguards, compliant\n")
+        f.write("# form, r = 1 when it converged. Columns compared: contact.txt v_nu v_tau p_nu lambda_nu\n")
+        f.write("# lambda_tau, fields.txt u_x u_y v_x v_y.\n")
+        f.write(f"#   max_rel: largest relative difference, scale = the column's largest |value| (the formula of\n")
+        f.write(f"#     tests/check_results.py --compare); check_results = 1 if it passes at --rtol {AGREEMENT_RTOL:g}\n")
+        f.write("#   max_rel_floor: the same with the scale at least p(g) = c_nu g (stresses) or g (velocities):\n")
+        f.write("#     a column that is zero up to round-off (lambda_tau at mu = 0) is not a difference of 1\n")
+        f.write(f"#   ok = max_rel_floor <= {AGREEMENT_RTOL:g}\n")
+        f.write("# problem nx ny T dt mu load eps reference other other_sweep other_id max_rel check_results max_rel_floor ok\n")
+        for ref, other, plain, floored, passed, ok in pairs:
+            eps = fmt(ref["eps"]) if ref["problem"] == "penalty" else "-"
+            f.write(" ".join([ref["problem"], fmt(ref["nx"]), fmt(ref["ny"]), fmt(ref["T"]), fmt(ref["dt"]),
+                              fmt(ref["mu"]), fmt(ref["load"]), eps, label(ref), label(other), other["sweep"],
+                              other["id"], f"{plain:.3e}", "1" if passed else "0", f"{floored:.3e}",
+                              "1" if ok else "0"]) + "\n")
+
+
+def write_hopeless(path, rows):
+    checks = []
+    with open(path, "w") as f:
+        f.write("# hopeless settings: each must exit non-zero, print its error message and leave no output folder\n")
+        f.write("# (neither OUT nor OUT.partial). ok = all three. The message follows on the next line.\n")
+        f.write("# id exit mode message_printed output_left ok options\n")
+        for row in rows:
+            rec = row["record"]
+            printed = bool(rec["message"])
+            left = rec["output_left"] == "1"
+            ok = row["exit"] != 0 and printed and not left
+            checks.append(ok)
+            f.write(f"{row['id']} {row['exit']} {row['mode']} {int(printed)} {int(left)} {int(ok)} "
+                    f"{rec['options'].replace(' ', '~')}\n")
+            f.write(f"#   {rec['message']}\n")
+    return checks
+
+
+def command_line(row):
+    return "./run.sh solve " + row["record"]["options"]
+
+
+def write_summary(path, rows, pairs, hopeless_checks, results):
+    lines = ["# bench/stability.sh summary (bench/stability_tables.py)"]
+    sweeps = sorted({r["sweep"] for r in rows})
+    lines.append(f"points {len(rows)}")
+    lines.append(f"converged {sum(r['mode'] == 'ok' for r in rows)}")
+    lines.append(f"wall_runs_sum {sum(r['wall_s'] for r in rows):.1f}")
+    lines.append("")
+    lines.append("# per sweep and method: points, converged, failures by mode, mean and max iterations per step")
+    lines.append("# sweep method points ok failures iter_mean(median over converged) iter_max(max) wall_sum")
+    for sweep in sweeps:
+        methods = sorted({r["method"] for r in rows if r["sweep"] == sweep})
+        for method in methods:
+            sel = [r for r in rows if r["sweep"] == sweep and r["method"] == method]
+            ok = [r for r in sel if r["mode"] == "ok"]
+            modes = {}
+            for r in sel:
+                if r["mode"] != "ok":
+                    modes[r["mode"]] = modes.get(r["mode"], 0) + 1
+            fails = ",".join(f"{m}:{n}" for m, n in sorted(modes.items())) or "-"
+            mean = np.median([r["iter_mean"] for r in ok]) if ok else float("nan")
+            mx = max((r["iter_max"] for r in ok), default=float("nan"))
+            lines.append(f"{sweep} {method} {len(sel)} {len(ok)} {fails} {fmt(mean)} {fmt(mx)} "
+                         f"{sum(r['wall_s'] for r in sel):.1f}")
+    lines.append("")
+    lines.append(f"agreement_pairs {len(pairs)}")
+    lines.append(f"agreement_failed {sum(not p[5] for p in pairs)}")
+    lines.append(f"agreement_check_results_failed {sum(not p[4] for p in pairs)}")
+    if pairs:
+        lines.append(f"agreement_max_rel_floor {max(p[3] for p in pairs):.3e}")
+        lines.append(f"agreement_max_rel {max(p[2] for p in pairs):.3e}")
+        kinds = {}
+        for ref, other, plain, floored, passed, ok in pairs:
+            k = other["method"] + ("_other_r" if other["r"] != ref["r"] and other["solver"] == "newton" else "")
+            kinds.setdefault(k, []).append((floored, plain, passed))
+        lines.append("# by method of the other run: pairs, largest max_rel_floor, largest max_rel, check_results failures")
+        for k, v in sorted(kinds.items()):
+            lines.append(f"agreement {k} {len(v)} {max(x[0] for x in v):.3e} {max(x[1] for x in v):.3e} "
+                         f"{sum(not x[2] for x in v)}")
+    lines.append("")
+    lines.append(f"hopeless_settings {len(hopeless_checks)}")
+    lines.append(f"hopeless_failed_loudly {sum(hopeless_checks)}")
+    lines.append("")
+    lines.append("# failures of a default inside the paper box (mu 0..1.5, load 1..100, k 1e-4..0.2,")
+    lines.append("# eps >= 1e-12): Newton with safeguards, compliant form, r = 1 (box sweep: maxit 50 as")
+    lines.append("# shipped; the other sweeps: maxit 100), with the command line that reproduces each")
+    defaults = [r for r in rows if r["sweep"] not in ("hopeless", "mesh") and r["solver"] == "newton"
+                and r["safeguard"] == "on" and r["penaltyform"] == "compliant" and r["r"] == 1.0
+                and 0 <= r["mu"] <= 1.5 and 1 <= r["load"] <= 100 and 1e-4 <= r["dt"] <= 0.2
+                and r["eps"] >= 1e-12]
+    failed = [r for r in defaults if r["mode"] != "ok"]
+    lines.append(f"default_points {len(defaults)}")
+    lines.append(f"default_failures {len(failed)}")
+    for r in failed:
+        lines.append(f"#   {r['sweep']} {r['id']} {r['mode']}: {r['record']['message']}")
+        lines.append(f"#   {command_line(r)}")
+    with open(path, "w") as f:
+        f.write("\n".join(lines) + "\n")
+
+
+def main():
+    parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    parser.add_argument("--results", required=True, help="the stability folder (results/stability)")
+    args = parser.parse_args()
+    rows = build_rows(args.results)
+    if not rows:
+        print(f"stability_tables.py: error: no records in {args.results}/runs", file=sys.stderr)
+        sys.exit(1)
+    for sweep in sorted({r["sweep"] for r in rows}):
+        sel = [r for r in rows if r["sweep"] == sweep]
+        sel.sort(key=lambda r: (r["method"], r["nx"] * r["ny"], r["eps"], r["r"], -r["dt"], r["mu"], r["load"], r["id"]))
+        write_table(os.path.join(args.results, f"{sweep}.txt"), sel, f"sweep {sweep}: one line per point")
+    pairs = agreement(rows)
+    write_agreement(os.path.join(args.results, "agreement.txt"), pairs)
+    hopeless = [r for r in rows if r["sweep"] == "hopeless"]
+    checks = write_hopeless(os.path.join(args.results, "hopeless.txt"), hopeless)
+    write_summary(os.path.join(args.results, "summary.txt"), rows, pairs, checks, args.results)
+    bad_pairs = sum(not p[5] for p in pairs)
+    print(f"stability: {len(rows)} points, {sum(r['mode'] == 'ok' for r in rows)} converged; agreement "
+          f"{len(pairs) - bad_pairs}/{len(pairs)} pairs within {AGREEMENT_RTOL:g}"
+          + (f" (largest {max(p[3] for p in pairs):.1e}; check_results.py --compare without a floor: "
+             f"{sum(not p[4] for p in pairs)} fail)" if pairs else "")
+          + f"; hopeless settings failing loudly {sum(checks)}/{len(checks)}")
+    sys.exit(1 if bad_pairs or not all(checks) else 0)
+
+
+if __name__ == "__main__":
+    main()

@@ -327,6 +327,9 @@ def main():
     unknown = [n for n in args.names if n not in FIGURES]
     if unknown:
         sys.exit(f"figures.py: error: unknown figure {unknown[0]}; figures: {' '.join(FIGURES)}")
+    for problem in PROBLEMS:
+        if not os.path.isfile(os.path.join(args.results, f"paper-{problem}", "summary.txt")):
+            sys.exit(f"figures.py: error: no results in {args.results}/paper-{problem}: run ./run.sh first")
     plt.rcParams.update(STYLE)
     for name in args.names or FIGURES:
         print(f"figures.py: {name} -> {FIGURES[name](args.results, args.out)}")

@@ -251,7 +251,18 @@ expect_failure "T <= 0" 2 "option -T = -1 is out of range: it must be > 0" -T -1
 expect_failure "dt <= 0" 2 "option -dt = 0 is out of range: it must be > 0" -dt 0
 expect_failure "dt > T" 2 "option -dt = 2 is out of range: it must be <= T = 1" -dt 2
 expect_failure "T/dt not whole" 2 "option -dt = 0.3 does not divide T = 1" -dt 0.3
-expect_failure "too many steps" 2 "ask for more than 1e7 steps" -dt 1e-8
+expect_failure "too many steps" 2 "ask for more than 1e6 steps" -dt 1e-7
+expect_failure "empty value" 2 "option -mu has an empty value" -mu ''
+expect_failure "an option as a value" 2 "option -nx needs a value, got the option '-ny'" -nx -ny 3
+expect_failure "quote in a value" 2 "option -scene = x'y: quote characters are not supported" -scene "x'y"
+expect_failure "tol below round-off" 2 "option -tol = 1e-15 is out of range: it must be >= 1e-13" -tol 1e-15
+expect_failure "output named ." 2 "option -out = '.' is not a usable folder name" -out .
+mkdir -p "$work/userfolder" && touch "$work/userfolder/thesis.tex"
+expect_failure "output folder of the user" 7 "does not hold results of this suite" -out "$work/userfolder"
+status=0; [ -f "$work/userfolder/thesis.tex" ] || status=1
+report $status "a folder of the user's given as -out is left as it was"
+printf '$MeshFormat\n2.2 0 8\n$EndMeshFormat\n$Nodes\n3\n1 0 0 0\n2 1 0 0\n' > "$work/truncated.msh"
+expect_failure "truncated mesh file" 3 "declares 3 nodes but holds|truncated file" -mesh "$work/truncated.msh"
 expect_failure "rho <= 0" 2 "option -rho = 0 is out of range: it must be > 0" -rho 0
 expect_failure "E <= 0" 2 "option -E = -100 is out of range: it must be > 0" -E -100
 expect_failure "nu >= 0.5" 2 "option -nu = 0.5 is out of range: it must be < 0.5" -nu 0.5
@@ -262,7 +273,7 @@ expect_failure "cnu < 0" 2 "option -cnu = -50 is out of range: it must be >= 0" 
 expect_failure "g <= 0" 2 "option -g = 0 is out of range: it must be > 0" -g 0
 expect_failure "mu < 0" 2 "option -mu = -0.4 is out of range: it must be >= 0" -mu -0.4
 expect_failure "eps <= 0" 2 "option -eps = 0 is out of range: it must be > 0" -eps 0
-expect_failure "tol <= 0" 2 "option -tol = -1e-10 is out of range: it must be > 0" -tol -1e-10
+expect_failure "tol <= 0" 2 "option -tol = -1e-10 is out of range: it must be >= 1e-13" -tol -1e-10
 expect_failure "maxit < 1" 2 "option -maxit = 0 is out of range: it must be >= 1" -maxit 0
 expect_failure "r <= 0" 2 "option -r = 0 is out of range: it must be > 0" -r 0
 expect_failure "unknown problem" 2 "option -problem = 'dual' is not one of original\|penalty" -problem dual

@@ -14,12 +14,15 @@ here="$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)"
 
 # Debian's python3-matplotlib is installed for /usr/bin/python3 only: use it everywhere.
 PYTHON=/usr/bin/python3
-PACKAGES=(freefem++ libfreefem++ gmsh numdiff python3 python3-numpy python3-matplotlib libopenblas0-pthread time)
+PACKAGES=(freefem++ libfreefem++ gmsh numdiff python3 python3-numpy python3-matplotlib libopenblas0-pthread time
+          g++ libfreefem++-dev libsuitesparse-dev liblapack-dev libblas-dev)
 
-missing_dependencies() {
+missing_dependencies() { # missing_dependencies [solve]: "solve" skips what only tests and plots need
   command -v FreeFem++-nw >/dev/null 2>&1 || return 0
   [ -f /usr/lib/freefem++/gmsh.so ] && [ -f /usr/lib/freefem++/lapack.so ] || return 0
   command -v gmsh >/dev/null 2>&1 || return 0
+  kernel_buildable || return 0
+  [ "${1:-}" = solve ] && return 1
   command -v numdiff >/dev/null 2>&1 || return 0
   "$PYTHON" -c 'import numpy, matplotlib' >/dev/null 2>&1 || return 0
   [ -e /usr/lib/x86_64-linux-gnu/openblas-pthread/libblas.so.3 ] || [ ! -d /usr/lib/x86_64-linux-gnu ] || return 0
@@ -27,13 +30,34 @@ missing_dependencies() {
   return 1
 }
 
-ensure_dependencies() {
-  missing_dependencies || return 0
+# The compiled kernel (edp/plugins/contactkernel.cpp, a FreeFEM plugin): built with g++
+# against FreeFEM's headers (libfreefem++-dev) and CHOLMOD (libsuitesparse-dev).
+KERNEL_SOURCE="$here/edp/plugins/contactkernel.cpp"
+KERNEL="$here/edp/plugins/build/contactkernel.so"
+kernel_buildable() {
+  command -v g++ >/dev/null 2>&1 && [ -f /usr/include/freefem++/ff++.hpp ] && [ -f /usr/include/suitesparse/cholmod.h ] \
+    && { [ -e /usr/lib/x86_64-linux-gnu/liblapack.so ] || [ -e /usr/lib/liblapack.so ]; }
+}
+build_kernel() { # (re)build the plugin when it is missing or older than its source
+  [ -f "$KERNEL" ] && [ "$KERNEL" -nt "$KERNEL_SOURCE" ] && return 0
+  mkdir -p "$(dirname "$KERNEL")"
+  local tmp="$KERNEL.$$"
+  if ! g++ -O2 -std=c++14 -fPIC -shared -DNDEBUG -Wno-deprecated-declarations -I/usr/include/freefem++ \
+       -I/usr/include/suitesparse "$KERNEL_SOURCE" -o "$tmp" -lcholmod -llapack -lblas; then
+    rm -f "$tmp"; echo "run.sh: error: cannot build $KERNEL from $KERNEL_SOURCE" >&2; exit 1
+  fi
+  mv "$tmp" "$KERNEL"
+  echo "run.sh: built $KERNEL" >&2
+}
+
+ensure_dependencies() { # ensure_dependencies [solve]
+  if ! missing_dependencies "${1:-}"; then build_kernel; return 0; fi
   if [ "$(id -u)" = 0 ]; then
     echo "run.sh: installing ${PACKAGES[*]}" >&2
     export DEBIAN_FRONTEND=noninteractive
     apt-get update -q >&2 && apt-get install -y -q "${PACKAGES[@]}" >&2
     if missing_dependencies; then echo "run.sh: error: dependencies still missing after apt-get install" >&2; exit 1; fi
+    build_kernel
   else
     echo "run.sh: error: missing dependencies; install them with:" >&2
     echo "  sudo apt-get update && sudo apt-get install -y ${PACKAGES[*]}" >&2
@@ -41,8 +65,8 @@ ensure_dependencies() {
   fi
 }
 
-# Debian's /etc/freefem++.pref points at folders that do not exist: give the plugin path here.
-export FF_LOADPATH=/usr/lib/freefem++
+# Debian's /etc/freefem++.pref points at folders that do not exist: give the plugin paths here.
+export FF_LOADPATH="/usr/lib/freefem++;$here/edp/plugins/build"
 export OPENBLAS_NUM_THREADS="${OPENBLAS_NUM_THREADS:-1}"
 export MPLBACKEND=Agg
 export PYTHON
@@ -93,7 +117,7 @@ command="${1:-main}"
 [ $# -gt 0 ] && shift
 case "$command" in
   main) ensure_dependencies; main_job ;;
-  solve) ensure_dependencies; solve "$@" ;;
+  solve) ensure_dependencies solve; solve "$@" ;;
   test) ensure_dependencies; exec bash "$here/tests/run_tests.sh" "$@" ;;
   bench) ensure_dependencies; exec bash "$here/bench/bench.sh" "$@" ;;
   stability) ensure_dependencies; exec bash "$here/bench/stability.sh" "$@" ;;

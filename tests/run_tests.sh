@@ -101,6 +101,7 @@ fi
 
 echo "# FreeFem++: $(command -v FreeFem++-nw), gmsh $(gmsh --version 2>&1 | head -1), numdiff $(numdiff --version 2>/dev/null | head -1 | awk '{print $2}')"
 
+coarse_options=(-nx 8 -ny 4 -dt 0.1)
 # ---- regression cases: physics, then numdiff against the blessed reference
 for name in "${case_names[@]}"; do
   diag="$work/$name.diag"; : > "$diag"
@@ -138,6 +139,38 @@ for problem in original penalty; do
     report 1 "full-system Newton = condensed Newton to 1e-9 ($problem)" "$diag"
   fi
 done
+
+# ---- the compiled kernel (edp/plugins/contactkernel.cpp): its linear algebra against
+# FreeFEM's UMFPACK, and its Newton against the script Newton of edp/lib/contact.idp
+diag="$work/kernel.diag"; : > "$diag"
+if "${FREEFEM[@]}" tests/kernel_check.edp > "$diag" 2>&1 && grep -q "kernel_check: all checks passed" "$diag"; then
+  report 0 "kernel: solve, Delassus matrix and both halves of the back-substitution = UMFPACK to 1e-12"
+else
+  report 1 "kernel: solve, Delassus matrix and both halves of the back-substitution = UMFPACK to 1e-12" "$diag"
+fi
+for problem in original penalty; do
+  diag="$work/script-$problem.diag"; : > "$diag"; status=0
+  if solve -scene paper -problem "$problem" -kernel script -out "$work/script-$problem" > "$diag" 2>&1 \
+     && "$PYTHON" tests/check_results.py "$work/script-$problem" --compare "$work/paper-$problem" --rtol 1e-9 >> "$diag" 2>&1; then
+    for key in iterations_total iterations_max newton_factorizations line_search_cuts augmentation_halvings; do
+      a=$(grep "^$key " "$work/script-$problem/summary.txt"); b=$(grep "^$key " "$work/paper-$problem/summary.txt")
+      [ -n "$a" ] && [ "$a" = "$b" ] || { echo "script: '$a', compiled: '$b'" >> "$diag"; status=1; }
+    done
+  else
+    status=1
+  fi
+  report $status "compiled Newton = script Newton: same iterations, factorizations, line-search cuts, values to 1e-9 ($problem)" "$diag"
+done
+diag="$work/umfpackfloor.diag"; : > "$diag"; status=0
+if solve "${coarse_options[@]}" -umfpackfloor on -out "$work/umfpackfloor" > "$diag" 2>&1; then
+  for key in time_backsubstitution time_backsubstitution_umfpack time_factorization_umfpack; do
+    awk -v k="$key" '$1 == k && $2 > 0 { found = 1 } END { exit !found }' "$work/umfpackfloor/summary.txt" \
+      || { echo "no positive $key in summary.txt" >> "$diag"; status=1; }
+  done
+else
+  status=1
+fi
+report $status "-umfpackfloor on: summary.txt has both floors (kernel and UMFPACK)" "$diag"
 
 # ---- the safeguards (line search, augmentation halving) do not change the discrete
 # solution: the fine paper case again with another augmentation
@@ -279,6 +312,9 @@ expect_failure "r <= 0" 2 "option -r = 0 is out of range: it must be > 0" -r 0
 expect_failure "unknown problem" 2 "option -problem = 'dual' is not one of original\|penalty" -problem dual
 expect_failure "unknown solver" 2 "option -solver = 'cg' is not one of newton.fixedpoint.full" -solver cg
 expect_failure "unknown safeguard" 2 "option -safeguard = 'maybe' is not one of on.off" -safeguard maybe
+expect_failure "unknown kernel" 2 "option -kernel = 'gpu' is not one of compiled.script" -kernel gpu
+expect_failure "script kernel with another solver" 2 "option -kernel script applies to -solver newton only" -kernel script -solver full
+expect_failure "unknown umfpackfloor" 2 "option -umfpackfloor = 'yes' is not one of on.off" -umfpackfloor yes
 expect_failure "unknown penalty form" 2 "option -penaltyform = 'soft' is not one of compliant.literal" -penaltyform soft
 expect_failure "unknown scene" 2 "option -scene = 'moon'" -scene moon
 expect_failure "scene file with a bad line" 3 "cannot read 'gravity 9.81'" -scene tests/data/bad.scene
@@ -315,7 +351,7 @@ for signal in TERM KILL; do
   rm -rf "$work/kill" "$work/kill.partial"
   solve "${coarse[@]}" -out "$work/kill" > "$diag" 2>&1 || status=1
   cp -r "$work/kill" "$work/kill.before"
-  solve -nx 66 -ny 33 -dt 0.001 -out "$work/kill" >> "$diag" 2>&1 &   # about 10 s: long enough to be killed
+  solve -nx 66 -ny 33 -dt 0.0002 -out "$work/kill" >> "$diag" 2>&1 &   # about 5 s: long enough to be killed
   pid=$!
   sleep 0.4
   kill -s "$signal" "$pid" 2>/dev/null || { echo "the run ended before the signal" >> "$diag"; status=1; }

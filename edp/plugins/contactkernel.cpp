@@ -1,0 +1,455 @@
+// contactkernel.cpp: the compiled kernel of edp/solve.edp's default solver (-solver newton).
+// A FreeFEM plugin (load "contactkernel"), built by ./run.sh into edp/plugins/build/.
+//
+// What it does, and why it is compiled (README "Performance", issue 4):
+// 1. Linear algebra with one factorization of S. S = M/k + A + kB + C'W Kn C is symmetric
+//    positive definite (Dirichlet rows carry FreeFEM's tgv on the diagonal). It is factorized
+//    once by CHOLMOD (supernodal Cholesky, P S P' = L L') with an ordering (CAMD) that puts
+//    the contact degrees of freedom (those C touches) last. The trailing block L_CC of L is
+//    then the Cholesky factor of the Schur complement of S on Gamma3, so that
+//      - the Delassus matrix is C S^-1 C' = G'G with G = L_CC^-1 (P C')_C: no solve per slot;
+//      - one back-substitution is split in two halves around the contact solve: the forward
+//        sweep z = L^-1 P b gives the free slot velocities c_free = C S^-1 b (a dense solve
+//        with L_CC' on the trailing block), and, once the contact stresses are known, the
+//        contact load only changes the trailing block of z, so the backward sweep
+//        v = P' L^-T z' finishes the step. A time step costs one back-substitution.
+// 2. The semismooth Newton on the condensed equations: the same iteration, pieces, residual,
+//    line search and cycle guard as the script version in edp/lib/contact.idp (see the
+//    comments there for the nodal laws); in compiled code the per-slot loops cost nothing.
+//    The script version runs the fixed point and the full-system Newton (-solver full),
+//    which the tests compare with this kernel.
+//
+// FreeFEM functions (int = FreeFEM int; 0 means success unless said):
+//   contactKernelFactorize(matrix S, matrix C)   factorize S, C's columns ordered last;
+//       returns 0, or 1 (S not positive definite), 2 (CHOLMOD failed), 3 (bad sizes)
+//   contactKernelDelassus(real[int] W, real[int,int] Dw)   Dw = C S^-1 C' diag(W)
+//   contactKernelSolve(real[int] b, real[int] x)            x = S^-1 b (one back-substitution)
+//   contactKernelFree(real[int] b, real[int] cFree)         cFree = C S^-1 b (forward half)
+//   contactKernelFinish(real[int] m, real[int] v)           v = S^-1 (b - C' diag(W) m) for
+//       the b of the last contactKernelFree (backward half)
+//   contactKernelLaws(int[int] kind, int[int] partner, real[int] r, real[int] p)  the laws:
+//       kind 0 normal / 1 tangential, partner = normal slot of a tangential slot (-1 none),
+//       r = augmentation per slot, p = [cnu, g, mu, eps, penalty, literal, tol, maxit,
+//       safeguards, forceScale]
+//   contactKernelNewton(real[int] cFree, real[int] c, real[int] m, real[int] info)
+//       one step's Newton, warm-started from (c, m); returns the iteration count, or -1
+//       (no convergence); info = [residual, iterations, line-search cuts, augmentation
+//       halvings, Newton matrix factorizations] (the last three summed over the run)
+#include "ff++.hpp"
+#include "AFunction_ext.hpp"
+#include <cholmod.h>
+#include <vector>
+#include <cmath>
+#include <algorithm>
+
+extern "C" {
+void dtrsv_(const char *uplo, const char *trans, const char *diag, const int *n, const double *a,
+            const int *lda, double *x, const int *incx);
+void dtrsm_(const char *side, const char *uplo, const char *transa, const char *diag, const int *m,
+            const int *n, const double *alpha, const double *a, const int *lda, double *b, const int *ldb);
+void dsyrk_(const char *uplo, const char *trans, const int *n, const int *k, const double *alpha,
+            const double *a, const int *lda, const double *beta, double *c, const int *ldc);
+void dgemv_(const char *trans, const int *m, const int *n, const double *alpha, const double *a,
+            const int *lda, const double *x, const int *incx, const double *beta, double *y, const int *incy);
+void dgetrf_(const int *m, const int *n, double *a, const int *lda, int *ipiv, int *info);
+void dgetrs_(const char *trans, const int *n, const int *nrhs, const double *a, const int *lda,
+             const int *ipiv, double *b, const int *ldb, int *info);
+}
+
+namespace {
+
+// ---------------------------------------------------------------- linear algebra state
+struct Factor {
+  cholmod_common common;
+  bool started = false;
+  cholmod_factor *L = nullptr;
+  cholmod_dense *work = nullptr, *x = nullptr, *y = nullptr, *e = nullptr;
+  int n = 0, nc = 0, nt = 0;            // unknowns, contact slots, trailing (contact) unknowns
+  std::vector<double> Ltrail;           // L_CC, nt x nt, column-major, lower triangular
+  std::vector<int> slotOf, posOf;       // C as triplets: slot, trailing position, value
+  std::vector<double> valOf;
+  std::vector<double> weight;           // W per slot (set by contactKernelDelassus)
+  std::vector<double> z;                // forward sweep of the last contactKernelFree
+  std::vector<double> Dw;               // nc x nc, column-major
+  bool haveForward = false;
+
+  void release() {
+    if (!started) return;
+    if (L) cholmod_free_factor(&L, &common);
+    if (work) cholmod_free_dense(&work, &common);
+    if (x) cholmod_free_dense(&x, &common);
+    if (y) cholmod_free_dense(&y, &common);
+    if (e) cholmod_free_dense(&e, &common);
+    cholmod_finish(&common);
+    started = false;
+  }
+  // x <- op(b) with CHOLMOD, workspace kept between calls
+  void apply(int sys, const double *in, double *out) {
+    std::copy(in, in + n, static_cast<double *>(work->x));
+    cholmod_solve2(sys, L, work, nullptr, &x, nullptr, &y, &e, &common);
+    std::copy(static_cast<double *>(x->x), static_cast<double *>(x->x) + n, out);
+  }
+};
+Factor F;
+
+MatriceMorse<double> *morse(Matrice_Creuse<double> *A) {
+  MatriceCreuse<double> *a = A->A;
+  if (!a) ExecError("contactkernel: empty matrix");
+  MatriceMorse<double> *m = dynamic_cast<MatriceMorse<double> *>(a);
+  if (!m) ExecError("contactkernel: the matrix is not a sparse (Morse) matrix");
+  return m;
+}
+
+long factorize(Matrice_Creuse<double> *const &pS, Matrice_Creuse<double> *const &pC) {
+  F.release();
+  MatriceMorse<double> &S = *morse(pS), &C = *morse(pC);
+  if (S.n != S.m || C.m != S.n) return 3;
+  const int n = S.n;
+  cholmod_start(&F.common);
+  F.started = true;
+  F.common.print = 0;
+  F.common.error_handler = nullptr;
+  F.n = n;
+  F.nc = C.n;
+
+  // upper triangle of S (stype = 1); a half-stored (sym) matrix keeps its lower triangle
+  S.COO();
+  size_t nz = 0;
+  for (size_t k = 0; k < S.nnz; k++) if (S.half || S.i[k] <= S.j[k]) nz++;
+  cholmod_triplet *T = cholmod_allocate_triplet(n, n, nz, 1, CHOLMOD_REAL, &F.common);
+  int *Ti = static_cast<int *>(T->i), *Tj = static_cast<int *>(T->j);
+  double *Tx = static_cast<double *>(T->x);
+  for (size_t k = 0; k < S.nnz; k++) {
+    int i = S.i[k], j = S.j[k];
+    if (!S.half && i > j) continue;
+    Ti[T->nnz] = std::min(i, j); Tj[T->nnz] = std::max(i, j); Tx[T->nnz] = S.aij[k]; T->nnz++;
+  }
+  cholmod_sparse *A = cholmod_triplet_to_sparse(T, nz, &F.common);
+  cholmod_free_triplet(&T, &F.common);
+
+  // the contact unknowns (columns of C) go last: CAMD with two constraint sets
+  C.COO();
+  std::vector<int> member(n, 0);
+  for (size_t k = 0; k < C.nnz; k++) if (C.aij[k] != 0) member[C.j[k]] = 1;
+  std::vector<int> perm(n);
+  int ok = cholmod_camd(A, nullptr, 0, member.data(), perm.data(), &F.common);
+  F.common.nmethods = 1;
+  F.common.method[0].ordering = CHOLMOD_GIVEN;
+  F.common.postorder = 0;
+  F.common.supernodal = CHOLMOD_SUPERNODAL;
+  if (ok) F.L = cholmod_analyze_p(A, perm.data(), nullptr, 0, &F.common);
+  if (F.L) cholmod_factorize(A, F.L, &F.common);
+  cholmod_free_sparse(&A, &F.common);
+  if (!ok || !F.L || F.common.status == CHOLMOD_OUT_OF_MEMORY || F.common.status == CHOLMOD_INVALID) return 2;
+  if (F.common.status == CHOLMOD_NOT_POSDEF || F.L->minor < (size_t)n) return 1;
+
+  // position of each unknown in the factor; the contact unknowns must be the trailing block
+  const int *P = static_cast<int *>(F.L->Perm);
+  std::vector<int> position(n);
+  for (int k = 0; k < n; k++) position[P[k]] = k;
+  int nt = 0;
+  for (int i = 0; i < n; i++) nt += member[i];
+  F.nt = nt;
+  for (int i = 0; i < n; i++) if (member[i] && position[i] < n - nt) return 2;
+  F.slotOf.clear(); F.posOf.clear(); F.valOf.clear();
+  for (size_t k = 0; k < C.nnz; k++) if (C.aij[k] != 0) {
+    F.slotOf.push_back(C.i[k]); F.posOf.push_back(position[C.j[k]] - (n - nt)); F.valOf.push_back(C.aij[k]);
+  }
+
+  // L_CC from the supernodal factor: the columns n - nt ... n - 1 and their rows
+  if (!F.L->is_super) return 2;
+  F.Ltrail.assign((size_t)nt * nt, 0.);
+  const int *super = static_cast<int *>(F.L->super), *pi = static_cast<int *>(F.L->pi);
+  const int *px = static_cast<int *>(F.L->px), *s = static_cast<int *>(F.L->s);
+  const double *Lx = static_cast<double *>(F.L->x);
+  for (size_t k = 0; k < F.L->nsuper; k++) {
+    int k1 = super[k], k2 = super[k + 1], nrow = pi[k + 1] - pi[k];
+    for (int jj = k1; jj < k2; jj++) {
+      if (jj < n - nt) continue;
+      for (int r = 0; r < nrow; r++) {
+        int row = s[pi[k] + r];
+        if (row < jj) continue;
+        F.Ltrail[(size_t)(row - (n - nt)) + (size_t)(jj - (n - nt)) * nt] = Lx[px[k] + r + (size_t)(jj - k1) * nrow];
+      }
+    }
+  }
+  F.work = cholmod_zeros(n, 1, CHOLMOD_REAL, &F.common);
+  F.z.assign(n, 0.);
+  F.haveForward = false;
+  return 0;
+}
+
+void requireFactor(const char *who) {
+  if (!F.L) ExecError(std::string("contactkernel: ") + who + " before contactKernelFactorize");
+}
+
+long delassus(KN<double> *const &pW, KNM<double> *const &pDw) {
+  requireFactor("contactKernelDelassus");
+  KN<double> &W = *pW;
+  if (W.N() != F.nc) ExecError("contactKernelDelassus: W must have one entry per row of C");
+  F.weight.assign(W.N(), 0.);
+  for (int j = 0; j < F.nc; j++) F.weight[j] = W[j];
+  const int nt = F.nt, nc = F.nc;
+  // G = L_CC^-1 Ct (nt x nc), Ct = (P C')_C
+  std::vector<double> G((size_t)nt * nc, 0.);
+  for (size_t k = 0; k < F.slotOf.size(); k++) G[F.posOf[k] + (size_t)F.slotOf[k] * nt] += F.valOf[k];
+  const double one = 1., zero = 0.;
+  if (nt > 0 && nc > 0) dtrsm_("L", "L", "N", "N", &nt, &nc, &one, F.Ltrail.data(), &nt, G.data(), &nt);
+  std::vector<double> D((size_t)nc * nc, 0.);
+  if (nt > 0 && nc > 0) dsyrk_("U", "T", &nc, &nt, &one, G.data(), &nt, &zero, D.data(), &nc);
+  for (int j = 0; j < nc; j++) for (int i = j + 1; i < nc; i++) D[i + (size_t)j * nc] = D[j + (size_t)i * nc];
+  F.Dw.assign((size_t)nc * nc, 0.);
+  for (int j = 0; j < nc; j++) for (int i = 0; i < nc; i++) F.Dw[i + (size_t)j * nc] = D[i + (size_t)j * nc] * F.weight[j];
+  KNM<double> &Dw = *pDw;
+  Dw.resize(nc, nc);
+  for (int j = 0; j < nc; j++) for (int i = 0; i < nc; i++) Dw(i, j) = F.Dw[i + (size_t)j * nc];
+  return 0;
+}
+
+long solve(KN<double> *const &pb, KN<double> *const &px) {
+  requireFactor("contactKernelSolve");
+  KN<double> &b = *pb, &x = *px;
+  if (b.N() != F.n) ExecError("contactKernelSolve: wrong size of the right-hand side");
+  if (x.N() != F.n) x.resize(F.n);
+  std::vector<double> in(F.n), out(F.n);
+  for (int i = 0; i < F.n; i++) in[i] = b[i];
+  F.apply(CHOLMOD_A, in.data(), out.data());
+  for (int i = 0; i < F.n; i++) x[i] = out[i];
+  return 0;
+}
+
+// trailing block of the solution of L' w = z (uses only the trailing block of z)
+void trailingVelocity(const double *zt, double *wt) {
+  const int nt = F.nt, inc = 1;
+  std::copy(zt, zt + nt, wt);
+  if (nt > 0) dtrsv_("L", "T", "N", &nt, F.Ltrail.data(), &nt, wt, &inc);
+}
+
+long freeVelocity(KN<double> *const &pb, KN<double> *const &pc) {
+  requireFactor("contactKernelFree");
+  KN<double> &b = *pb, &c = *pc;
+  if (b.N() != F.n) ExecError("contactKernelFree: wrong size of the right-hand side");
+  if (c.N() != F.nc) c.resize(F.nc);
+  std::vector<double> in(F.n), pb2(F.n);
+  for (int i = 0; i < F.n; i++) in[i] = b[i];
+  F.apply(CHOLMOD_P, in.data(), pb2.data());
+  F.apply(CHOLMOD_L, pb2.data(), F.z.data());
+  F.haveForward = true;
+  std::vector<double> wt(F.nt);
+  trailingVelocity(F.z.data() + (F.n - F.nt), wt.data());
+  c = 0.;
+  for (size_t k = 0; k < F.slotOf.size(); k++) c[F.slotOf[k]] += F.valOf[k] * wt[F.posOf[k]];
+  return 0;
+}
+
+long finish(KN<double> *const &pm, KN<double> *const &pv) {
+  requireFactor("contactKernelFinish");
+  if (!F.haveForward) ExecError("contactKernelFinish: call contactKernelFree first");
+  if (F.weight.empty()) ExecError("contactKernelFinish: call contactKernelDelassus first");
+  KN<double> &m = *pm, &v = *pv;
+  if (m.N() != F.nc) ExecError("contactKernelFinish: one multiplier per slot expected");
+  if (v.N() != F.n) v.resize(F.n);
+  const int nt = F.nt, inc = 1;
+  std::vector<double> load(nt, 0.), z = F.z;
+  for (size_t k = 0; k < F.slotOf.size(); k++) load[F.posOf[k]] += F.valOf[k] * F.weight[F.slotOf[k]] * m[F.slotOf[k]];
+  if (nt > 0) dtrsv_("L", "N", "N", &nt, F.Ltrail.data(), &nt, load.data(), &inc);
+  for (int i = 0; i < nt; i++) z[F.n - nt + i] -= load[i];
+  std::vector<double> w(F.n), out(F.n);
+  F.apply(CHOLMOD_Lt, z.data(), w.data());
+  F.apply(CHOLMOD_Pt, w.data(), out.data());
+  for (int i = 0; i < F.n; i++) v[i] = out[i];
+  return 0;
+}
+
+// ---------------------------------------------------------------- the nodal laws and Newton
+// Same pieces, relations, residual and safeguards as edp/lib/contact.idp (classifyContact,
+// contactRelations, solveContactCondensed); see the comments there.
+struct Laws {
+  int nc = 0;
+  std::vector<int> isNormal, partner;          // partner: normal slot of a tangential slot, -1 none
+  std::vector<double> damping, r, rDefault, threshold, residualWeight;
+  double cnu = 0, g = 0, mu = 0, eps = 0, forceScale = 1, tol = 0;
+  int penalty = 0, literal = 0, maxit = 0, safeguards = 1;
+  double pieceA[5], pieceD[5], pieceH[5], kappa = 0;
+  std::vector<double> keyWeight;
+  // state of an iterate
+  std::vector<double> stress, yv, bound, target, mismatch;
+  std::vector<int> piece, key;
+  // relations
+  std::vector<double> velocityCoef, stressCoef, relationRhs;
+  std::vector<int> velocitySlot;
+  // the Newton matrix, LU-factorized for the pieces newtonKey
+  std::vector<double> N;
+  std::vector<int> pivots, newtonKey;
+  long cuts = 0, halvings = 0, factorizations = 0;
+  bool ready = false;
+
+  void setAugmentation(int j, double rj) {
+    r[j] = rj;
+    threshold[j] = (cnu + rj) * g;
+    residualWeight[j] = std::max(1. / forceScale, 1. / (rj * g));
+  }
+  double merit() const {
+    double s = 0;
+    for (int j = 0; j < nc; j++) s += mismatch[j] * mismatch[j];
+    return std::sqrt(s);
+  }
+  // pieces, targets and the weighted natural residual (max norm) at (c, m)
+  double classify(const double *c, const double *m) {
+    double worst = 0;
+    for (int j = 0; j < nc; j++) {
+      stress[j] = damping[j] * c[j] + m[j];
+      yv[j] = r[j] * c[j] + stress[j];
+      bound[j] = partner[j] >= 0 ? mu * cnu * std::max(c[partner[j]], 0.) : 0.;
+      double y = yv[j];
+      int p;
+      if (isNormal[j]) p = y <= 0 ? 0 : (y < threshold[j] ? 1 : 2);
+      else p = (bound[j] > 0 && std::fabs(y) <= bound[j]) ? 3 : 4;
+      piece[j] = p;
+      key[j] = 4 * p + (p == 4 ? 2 * (y > 0) + (bound[j] > 0) : 0);
+      double t;
+      if (p == 0) t = 0.;
+      else if (p == 1) t = cnu * y / (cnu + r[j]);
+      else if (p != 2) t = std::max(-bound[j], std::min(bound[j], y));
+      else t = penalty ? (kappa * y - r[j] * g / eps) / (kappa + r[j]) : y - r[j] * g;
+      target[j] = t;
+      mismatch[j] = (stress[j] - t) * residualWeight[j];
+      worst = std::max(worst, std::fabs(mismatch[j]));
+      if (std::isnan(mismatch[j])) worst = mismatch[j];
+    }
+    return worst;
+  }
+  void relations() {
+    for (int j = 0; j < nc; j++) {
+      int p = piece[j];
+      velocityCoef[j] = p == 4 ? -mu * cnu * (key[j] % 2) * (yv[j] > 0 ? 1. : -1.) : pieceA[p];
+      stressCoef[j] = pieceD[p];
+      relationRhs[j] = pieceH[p];
+      velocitySlot[j] = p == 4 && partner[j] >= 0 ? partner[j] : j;
+    }
+  }
+};
+Laws Q;
+
+long laws(KN<long> *const &pkind, KN<long> *const &ppartner, KN<double> *const &pr, KN<double> *const &pp) {
+  KN<long> &kind = *pkind, &partner = *ppartner;
+  KN<double> &r = *pr, &p = *pp;
+  const int nc = kind.N();
+  if (partner.N() != nc || r.N() != nc || p.N() != 10) ExecError("contactKernelLaws: wrong argument sizes");
+  if ((int)F.Dw.size() != nc * nc) ExecError("contactKernelLaws: call contactKernelDelassus first (same slots)");
+  Q = Laws();
+  Q.nc = nc;
+  Q.cnu = p[0]; Q.g = p[1]; Q.mu = p[2]; Q.eps = p[3]; Q.penalty = p[4] != 0; Q.literal = p[5] != 0;
+  Q.tol = p[6]; Q.maxit = (int)p[7]; Q.safeguards = p[8] != 0; Q.forceScale = p[9];
+  Q.isNormal.resize(nc); Q.partner.resize(nc); Q.damping.resize(nc);
+  Q.r.resize(nc); Q.rDefault.resize(nc); Q.threshold.resize(nc); Q.residualWeight.resize(nc);
+  for (int j = 0; j < nc; j++) {
+    Q.isNormal[j] = kind[j] == 0;
+    Q.partner[j] = kind[j] == 0 ? -1 : (int)partner[j];
+    Q.damping[j] = kind[j] == 0 ? Q.cnu : 0.;
+    Q.setAugmentation(j, r[j]);
+  }
+  Q.rDefault = Q.r;
+  const double pa[5] = {Q.cnu, 0., 1., 1., 0.};
+  const double pd[5] = {1., 1., Q.penalty ? -Q.eps : 0., 0., 1.};
+  const double ph[5] = {0., 0., Q.g, 0., 0.};
+  std::copy(pa, pa + 5, Q.pieceA); std::copy(pd, pd + 5, Q.pieceD); std::copy(ph, ph + 5, Q.pieceH);
+  if (Q.penalty && Q.literal) { Q.pieceA[2] = -1. / Q.eps; Q.pieceD[2] = 1.; Q.pieceH[2] = -Q.g / Q.eps; }
+  Q.kappa = Q.cnu + 1. / Q.eps;
+  Q.keyWeight.resize(nc);
+  for (int j = 0; j < nc; j++) Q.keyWeight[j] = 1. + ((7919 * j + 104729) % 1009);
+  Q.stress.resize(nc); Q.yv.resize(nc); Q.bound.resize(nc); Q.target.resize(nc); Q.mismatch.resize(nc);
+  Q.piece.resize(nc); Q.key.resize(nc);
+  Q.velocityCoef.resize(nc); Q.stressCoef.resize(nc); Q.relationRhs.resize(nc); Q.velocitySlot.resize(nc);
+  Q.N.assign((size_t)nc * nc, 0.); Q.pivots.resize(nc); Q.newtonKey.assign(nc, -1);
+  Q.ready = true;
+  return 0;
+}
+
+// c = cFree - Dw m
+void velocities(const double *cFree, const double *m, double *c) {
+  const int nc = Q.nc, inc = 1;
+  const double minusOne = -1., one = 1.;
+  std::copy(cFree, cFree + nc, c);
+  dgemv_("N", &nc, &nc, &minusOne, F.Dw.data(), &nc, m, &inc, &one, c, &inc);
+}
+
+long newton(KN<double> *const &pcFree, KN<double> *const &pc, KN<double> *const &pm, KN<double> *const &pinfo) {
+  if (!Q.ready) ExecError("contactKernelNewton: call contactKernelLaws first");
+  const int nc = Q.nc, one = 1;
+  KN<double> &cFreeK = *pcFree, &cK = *pc, &mK = *pm, &info = *pinfo;
+  if (cFreeK.N() != nc || cK.N() != nc || mK.N() != nc) ExecError("contactKernelNewton: one value per slot expected");
+  std::vector<double> cFree(nc), c(nc), m(nc), cStart(nc), previous(nc), newtonM(nc), rhs(nc), d(nc);
+  for (int j = 0; j < nc; j++) { cFree[j] = cFreeK[j]; c[j] = cK[j]; m[j] = mK[j]; }
+  std::vector<double> seen(Q.maxit + 1, -1.);
+  // merit at the previous stresses with this step's cFree; first pieces from the previous solution
+  velocities(cFree.data(), m.data(), cStart.data());
+  Q.classify(cStart.data(), m.data());
+  double merit = Q.merit();
+  Q.classify(c.data(), m.data());
+  double residual = 0;
+  int it = 0;
+  while (true) {
+    Q.relations();
+    // cycle guard: the fingerprint of the pieces; a repeat within the step halves r
+    double fingerprint = 0;
+    for (int j = 0; j < nc; j++) fingerprint += Q.key[j] * Q.keyWeight[j];
+    if (Q.safeguards)
+      for (int k = 0; k < it; k++)
+        if (seen[k] == fingerprint) {
+          for (int j = 0; j < nc; j++) Q.setAugmentation(j, 0.5 * Q.r[j]);
+          Q.halvings++;
+          std::fill(seen.begin(), seen.end(), -1.);
+          break;
+        }
+    seen[it] = fingerprint;
+    if (Q.key != Q.newtonKey) {
+      for (int jj = 0; jj < nc; jj++)         // column jj of N: rows j use Dw(velocitySlot[j], jj)
+        for (int j = 0; j < nc; j++)
+          Q.N[j + (size_t)jj * nc] = -Q.velocityCoef[j] * F.Dw[Q.velocitySlot[j] + (size_t)jj * nc];
+      for (int j = 0; j < nc; j++) Q.N[j + (size_t)j * nc] += Q.stressCoef[j];
+      int infoLU = 0;
+      dgetrf_(&nc, &nc, Q.N.data(), &nc, Q.pivots.data(), &infoLU);
+      if (infoLU != 0) { residual = NAN; Q.newtonKey.assign(nc, -1); break; }
+      Q.newtonKey = Q.key;
+      Q.factorizations++;
+    }
+    for (int j = 0; j < nc; j++) rhs[j] = Q.relationRhs[j] - Q.velocityCoef[j] * cFree[Q.velocitySlot[j]];
+    previous = m;
+    newtonM = rhs;
+    int infoLU = 0;
+    dgetrs_("N", &nc, &one, Q.N.data(), &nc, Q.pivots.data(), newtonM.data(), &nc, &infoLU);
+    for (int j = 0; j < nc; j++) d[j] = newtonM[j] - previous[j];
+    double step = 1;
+    for (int cut = 0; cut <= 10; cut++) {
+      for (int j = 0; j < nc; j++) m[j] = previous[j] + step * d[j];
+      velocities(cFree.data(), m.data(), c.data());
+      residual = Q.classify(c.data(), m.data());
+      if (!Q.safeguards || Q.merit() < (1 - 1e-4 * step) * merit || residual <= Q.tol || cut == 10) break;
+      step *= 0.5;
+      Q.cuts++;
+    }
+    merit = Q.merit();
+    it++;
+    if (residual <= Q.tol || it >= Q.maxit || std::isnan(residual) || std::isinf(residual)) break;
+  }
+  if (Q.r != Q.rDefault) for (int j = 0; j < nc; j++) Q.setAugmentation(j, Q.rDefault[j]);
+  for (int j = 0; j < nc; j++) { cK[j] = c[j]; mK[j] = m[j]; }
+  if (info.N() != 5) info.resize(5);
+  info[0] = residual; info[1] = it; info[2] = Q.cuts; info[3] = Q.halvings; info[4] = Q.factorizations;
+  return residual <= Q.tol ? it : -1;
+}
+
+}  // namespace
+
+static void Load_Init() {
+  Global.Add("contactKernelFactorize", "(", new OneOperator2_<long, Matrice_Creuse<double> *, Matrice_Creuse<double> *>(factorize));
+  Global.Add("contactKernelDelassus", "(", new OneOperator2_<long, KN<double> *, KNM<double> *>(delassus));
+  Global.Add("contactKernelSolve", "(", new OneOperator2_<long, KN<double> *, KN<double> *>(solve));
+  Global.Add("contactKernelFree", "(", new OneOperator2_<long, KN<double> *, KN<double> *>(freeVelocity));
+  Global.Add("contactKernelFinish", "(", new OneOperator2_<long, KN<double> *, KN<double> *>(finish));
+  Global.Add("contactKernelLaws", "(", new OneOperator4_<long, KN<long> *, KN<long> *, KN<double> *, KN<double> *>(laws));
+  Global.Add("contactKernelNewton", "(", new OneOperator4_<long, KN<double> *, KN<double> *, KN<double> *, KN<double> *>(newton));
+}
+
+LOADFUNC(Load_Init)

@@ -27,6 +27,8 @@
 //   contactKernelFree(real[int] b, real[int] cFree)         cFree = C S^-1 b (forward half)
 //   contactKernelFinish(real[int] m, real[int] v)           v = S^-1 (b - C' diag(W) m) for
 //       the b of the last contactKernelFree (backward half)
+//   contactKernelProducts(matrix M, matrix A, matrix B)   keep M, A, B (one pattern) for:
+//   contactKernelMultiply(real[int] v, real[int] Mv, real[int] Av, real[int] Bv)  three products
 //   contactKernelLaws(int[int] kind, int[int] partner, real[int] r, real[int] p)  the laws:
 //       kind 0 normal / 1 tangential, partner = normal slot of a tangential slot (-1 none),
 //       r = augmentation per slot, p = [cnu, g, mu, eps, penalty, literal, tol, maxit,
@@ -34,7 +36,8 @@
 //   contactKernelNewton(real[int] cFree, real[int] c, real[int] m, real[int] info)
 //       one step's Newton, warm-started from (c, m); returns the iteration count, or -1
 //       (no convergence); info = [residual, iterations, line-search cuts, augmentation
-//       halvings, Newton matrix factorizations] (the last three summed over the run)
+//       halvings, Newton matrix factorizations, low-rank corrections] (the last four summed
+//       over the run)
 #include "ff++.hpp"
 #include "AFunction_ext.hpp"
 #include <cholmod.h>
@@ -51,6 +54,8 @@ void dsyrk_(const char *uplo, const char *trans, const int *n, const int *k, con
             const double *a, const int *lda, const double *beta, double *c, const int *ldc);
 void dgemv_(const char *trans, const int *m, const int *n, const double *alpha, const double *a,
             const int *lda, const double *x, const int *incx, const double *beta, double *y, const int *incy);
+void dgemm_(const char *transa, const char *transb, const int *m, const int *n, const int *k, const double *alpha,
+            const double *a, const int *lda, const double *b, const int *ldb, const double *beta, double *c, const int *ldc);
 void dgetrf_(const int *m, const int *n, double *a, const int *lda, int *ipiv, int *info);
 void dgetrs_(const char *trans, const int *n, const int *nrhs, const double *a, const int *lda,
              const int *ipiv, double *b, const int *ldb, int *info);
@@ -230,10 +235,12 @@ long freeVelocity(KN<double> *const &pb, KN<double> *const &pc) {
   KN<double> &b = *pb, &c = *pc;
   if (b.N() != F.n) ExecError("contactKernelFree: wrong size of the right-hand side");
   if (c.N() != F.nc) c.resize(F.nc);
-  std::vector<double> in(F.n), pb2(F.n);
-  for (int i = 0; i < F.n; i++) in[i] = b[i];
-  F.apply(CHOLMOD_P, in.data(), pb2.data());
-  F.apply(CHOLMOD_L, pb2.data(), F.z.data());
+  // z = L^-1 P b (the permutation applied here, the triangular solve by CHOLMOD)
+  const int *P = static_cast<int *>(F.L->Perm);
+  double *work = static_cast<double *>(F.work->x);
+  for (int k = 0; k < F.n; k++) work[k] = b[P[k]];
+  cholmod_solve2(CHOLMOD_L, F.L, F.work, nullptr, &F.x, nullptr, &F.y, &F.e, &F.common);
+  std::copy(static_cast<double *>(F.x->x), static_cast<double *>(F.x->x) + F.n, F.z.begin());
   F.haveForward = true;
   std::vector<double> wt(F.nt);
   trailingVelocity(F.z.data() + (F.n - F.nt), wt.data());
@@ -250,14 +257,84 @@ long finish(KN<double> *const &pm, KN<double> *const &pv) {
   if (m.N() != F.nc) ExecError("contactKernelFinish: one multiplier per slot expected");
   if (v.N() != F.n) v.resize(F.n);
   const int nt = F.nt, inc = 1;
-  std::vector<double> load(nt, 0.), z = F.z;
+  // the contact load changes the trailing block of z only: z_C -= L_CC^-1 (P C' W m)_C
+  std::vector<double> load(nt, 0.);
   for (size_t k = 0; k < F.slotOf.size(); k++) load[F.posOf[k]] += F.valOf[k] * F.weight[F.slotOf[k]] * m[F.slotOf[k]];
   if (nt > 0) dtrsv_("L", "N", "N", &nt, F.Ltrail.data(), &nt, load.data(), &inc);
-  for (int i = 0; i < nt; i++) z[F.n - nt + i] -= load[i];
-  std::vector<double> w(F.n), out(F.n);
-  F.apply(CHOLMOD_Lt, z.data(), w.data());
-  F.apply(CHOLMOD_Pt, w.data(), out.data());
-  for (int i = 0; i < F.n; i++) v[i] = out[i];
+  double *work = static_cast<double *>(F.work->x);
+  std::copy(F.z.begin(), F.z.end(), work);
+  for (int i = 0; i < nt; i++) work[F.n - nt + i] -= load[i];
+  // v = P' L^-T z
+  cholmod_solve2(CHOLMOD_Lt, F.L, F.work, nullptr, &F.x, nullptr, &F.y, &F.e, &F.common);
+  const int *P = static_cast<int *>(F.L->Perm);
+  const double *w = static_cast<double *>(F.x->x);
+  for (int k = 0; k < F.n; k++) v[P[k]] = w[k];
+  return 0;
+}
+
+// ---------------------------------------------------------------- products with M, A, B
+// The three matrices of the energy terms share one sparsity pattern (P1 on one mesh): kept
+// as one CSR structure with three values per entry, so that M v, A v and B v cost one pass.
+struct Products {
+  int n = 0;
+  std::vector<int> start, column;
+  std::vector<double> values;       // 3 per entry: M, A, B
+};
+Products P3;
+
+long products(Matrice_Creuse<double> *const &pM, Matrice_Creuse<double> *const &pA, Matrice_Creuse<double> *const &pB) {
+  MatriceMorse<double> *mats[3] = {morse(pM), morse(pA), morse(pB)};
+  const int n = mats[0]->n;
+  for (int k = 0; k < 3; k++)
+    if (mats[k]->n != n || mats[k]->m != n || mats[k]->half)
+      ExecError("contactKernelProducts: M, A, B must be square, of one size, stored in full (not sym)");
+  // the union of the three patterns, row by row, with the values of each matrix
+  std::vector<std::vector<std::pair<int, int>>> rows(n);   // (column, index into merged values)
+  std::vector<std::pair<long long, double>> entries[3];
+  for (int k = 0; k < 3; k++) {
+    mats[k]->COO();
+    entries[k].reserve(mats[k]->nnz);
+    for (size_t e = 0; e < mats[k]->nnz; e++)
+      entries[k].push_back({(long long)mats[k]->i[e] * n + mats[k]->j[e], mats[k]->aij[e]});
+    std::sort(entries[k].begin(), entries[k].end());
+  }
+  std::vector<long long> keys;
+  for (int k = 0; k < 3; k++) for (auto &e : entries[k]) keys.push_back(e.first);
+  std::sort(keys.begin(), keys.end());
+  keys.erase(std::unique(keys.begin(), keys.end()), keys.end());
+  P3.n = n;
+  P3.start.assign(n + 1, 0);
+  P3.column.resize(keys.size());
+  P3.values.assign(3 * keys.size(), 0.);
+  for (size_t e = 0; e < keys.size(); e++) { P3.start[keys[e] / n + 1]++; P3.column[e] = keys[e] % n; }
+  for (int i = 0; i < n; i++) P3.start[i + 1] += P3.start[i];
+  for (int k = 0; k < 3; k++)
+    for (auto &e : entries[k]) {
+      size_t pos = std::lower_bound(keys.begin(), keys.end(), e.first) - keys.begin();
+      P3.values[3 * pos + k] += e.second;
+    }
+  return 0;
+}
+
+long multiply(KN<double> *const &pv, KN<double> *const &pMv, KN<double> *const &pAv, KN<double> *const &pBv) {
+  if (P3.n == 0) ExecError("contactKernelMultiply: call contactKernelProducts first");
+  KN<double> &v = *pv, &Mv = *pMv, &Av = *pAv, &Bv = *pBv;
+  const int n = P3.n;
+  if (v.N() != n) ExecError("contactKernelMultiply: wrong size of v");
+  if (Mv.N() != n) Mv.resize(n);
+  if (Av.N() != n) Av.resize(n);
+  if (Bv.N() != n) Bv.resize(n);
+  std::vector<double> x(n);
+  for (int i = 0; i < n; i++) x[i] = v[i];
+  const double *val = P3.values.data();
+  for (int i = 0; i < n; i++) {
+    double m = 0, a = 0, b = 0;
+    for (int e = P3.start[i]; e < P3.start[i + 1]; e++) {
+      double xj = x[P3.column[e]];
+      m += val[3 * e] * xj; a += val[3 * e + 1] * xj; b += val[3 * e + 2] * xj;
+    }
+    Mv[i] = m; Av[i] = a; Bv[i] = b;
+  }
   return 0;
 }
 
@@ -278,10 +355,18 @@ struct Laws {
   // relations
   std::vector<double> velocityCoef, stressCoef, relationRhs;
   std::vector<int> velocitySlot;
-  // the Newton matrix, LU-factorized for the pieces newtonKey
-  std::vector<double> N;
-  std::vector<int> pivots, newtonKey;
-  long cuts = 0, halvings = 0, factorizations = 0;
+  // The Newton matrix N, row j = -velocityCoef[j] Dw(velocitySlot[j], :) + stressCoef[j] e_j'.
+  // A base matrix N0 (rows baseA, baseD, baseS) is LU-factorized; the matrix of other
+  // pieces differs from N0 in a few rows R only (the pieces that changed), so it is solved
+  // with N0's factors and a rank-|R| (Woodbury) correction: N = N0 + E_R Delta,
+  //   N^-1 b = x0 - Y K^-1 Delta x0,  x0 = N0^-1 b,  Y = N0^-1 E_R,  K = I + Delta Y.
+  // N0 is re-factorized when |R| exceeds nc/8 (the correction would cost more than a
+  // quarter of a factorization), or when a corrected solve fails its residual check.
+  std::vector<double> N0, Y, Delta, K;
+  std::vector<int> pivots, Kpivots, newtonKey, changed, baseS;
+  std::vector<double> baseA, baseD;
+  bool haveBase = false;
+  long cuts = 0, halvings = 0, factorizations = 0, corrections = 0;
   bool ready = false;
 
   void setAugmentation(int j, double rj) {
@@ -361,7 +446,7 @@ long laws(KN<long> *const &pkind, KN<long> *const &ppartner, KN<double> *const &
   Q.stress.resize(nc); Q.yv.resize(nc); Q.bound.resize(nc); Q.target.resize(nc); Q.mismatch.resize(nc);
   Q.piece.resize(nc); Q.key.resize(nc);
   Q.velocityCoef.resize(nc); Q.stressCoef.resize(nc); Q.relationRhs.resize(nc); Q.velocitySlot.resize(nc);
-  Q.N.assign((size_t)nc * nc, 0.); Q.pivots.resize(nc); Q.newtonKey.assign(nc, -1);
+  Q.pivots.resize(nc); Q.newtonKey.assign(nc, -1);
   Q.ready = true;
   return 0;
 }
@@ -372,6 +457,90 @@ void velocities(const double *cFree, const double *m, double *c) {
   const double minusOne = -1., one = 1.;
   std::copy(cFree, cFree + nc, c);
   dgemv_("N", &nc, &nc, &minusOne, F.Dw.data(), &nc, m, &inc, &one, c, &inc);
+}
+
+// LU of N0 = the Newton matrix of the current relations
+bool newtonFactorBase() {
+  const int nc = Q.nc;
+  Q.N0.assign((size_t)nc * nc, 0.);
+  for (int jj = 0; jj < nc; jj++)           // column jj: row j uses Dw(velocitySlot[j], jj)
+    for (int j = 0; j < nc; j++)
+      Q.N0[j + (size_t)jj * nc] = -Q.velocityCoef[j] * F.Dw[Q.velocitySlot[j] + (size_t)jj * nc];
+  for (int j = 0; j < nc; j++) Q.N0[j + (size_t)j * nc] += Q.stressCoef[j];
+  int info = 0;
+  dgetrf_(&nc, &nc, Q.N0.data(), &nc, Q.pivots.data(), &info);
+  Q.factorizations++;
+  Q.haveBase = info == 0;
+  Q.changed.clear();
+  Q.baseA = Q.velocityCoef; Q.baseD = Q.stressCoef; Q.baseS = Q.velocitySlot;
+  Q.newtonKey = Q.key;
+  if (!Q.haveBase) Q.newtonKey.assign(nc, -1);
+  return Q.haveBase;
+}
+
+// Prepare the solves with the Newton matrix of the current pieces (Q.key).
+bool newtonPrepare() {
+  const int nc = Q.nc;
+  if (!Q.haveBase) return newtonFactorBase();
+  std::vector<int> R;
+  for (int j = 0; j < nc; j++)
+    if (Q.velocityCoef[j] != Q.baseA[j] || Q.stressCoef[j] != Q.baseD[j] || Q.velocitySlot[j] != Q.baseS[j]) R.push_back(j);
+  const int r = R.size();
+  if (r > nc / 8) return newtonFactorBase();
+  Q.changed = R;
+  Q.newtonKey = Q.key;
+  if (r == 0) return true;
+  // Delta (r x nc): the changed rows of N minus those of N0
+  Q.Delta.assign((size_t)r * nc, 0.);
+  for (int k = 0; k < r; k++) {
+    int j = R[k];
+    for (int i = 0; i < nc; i++)
+      Q.Delta[k + (size_t)i * r] = -Q.velocityCoef[j] * F.Dw[Q.velocitySlot[j] + (size_t)i * nc]
+                                 + Q.baseA[j] * F.Dw[Q.baseS[j] + (size_t)i * nc];
+    Q.Delta[k + (size_t)j * r] += Q.stressCoef[j] - Q.baseD[j];
+  }
+  // Y = N0^-1 E_R, K = I + Delta Y
+  Q.Y.assign((size_t)nc * r, 0.);
+  for (int k = 0; k < r; k++) Q.Y[R[k] + (size_t)k * nc] = 1.;
+  int info = 0;
+  dgetrs_("N", &nc, &r, Q.N0.data(), &nc, Q.pivots.data(), Q.Y.data(), &nc, &info);
+  Q.K.assign((size_t)r * r, 0.);
+  for (int k = 0; k < r; k++) Q.K[k + (size_t)k * r] = 1.;
+  const double one = 1.;
+  dgemm_("N", "N", &r, &r, &nc, &one, Q.Delta.data(), &r, Q.Y.data(), &nc, &one, Q.K.data(), &r);
+  Q.Kpivots.resize(r);
+  dgetrf_(&r, &r, Q.K.data(), &r, Q.Kpivots.data(), &info);
+  if (info != 0) return newtonFactorBase();
+  Q.corrections++;
+  return true;
+}
+
+// x = N^-1 b with N0's factors and the correction; the corrected solve is checked by its
+// residual, row by row, against the size of the row's terms (falls back to a factorization).
+bool newtonSolve(const double *b, double *x) {
+  const int nc = Q.nc, one = 1, inc = 1;
+  int info = 0;
+  std::copy(b, b + nc, x);
+  dgetrs_("N", &nc, &one, Q.N0.data(), &nc, Q.pivots.data(), x, &nc, &info);
+  const int r = Q.changed.size();
+  if (r == 0) return info == 0;
+  std::vector<double> t(r, 0.), Dx(nc, 0.);
+  const double plus = 1., minus = -1., zero = 0.;
+  dgemv_("N", &r, &nc, &plus, Q.Delta.data(), &r, x, &inc, &zero, t.data(), &inc);
+  dgetrs_("N", &r, &one, Q.K.data(), &r, Q.Kpivots.data(), t.data(), &r, &info);
+  dgemv_("N", &nc, &r, &minus, Q.Y.data(), &nc, t.data(), &inc, &plus, x, &inc);
+  dgemv_("N", &nc, &nc, &plus, F.Dw.data(), &nc, x, &inc, &zero, Dx.data(), &inc);
+  for (int j = 0; j < nc; j++) {
+    double a = -Q.velocityCoef[j] * Dx[Q.velocitySlot[j]], d = Q.stressCoef[j] * x[j];
+    double scale = std::fabs(b[j]) + std::fabs(a) + std::fabs(d);
+    if (!(std::fabs(a + d - b[j]) <= 1e-11 * scale)) {
+      if (!newtonFactorBase()) return false;
+      std::copy(b, b + nc, x);
+      dgetrs_("N", &nc, &one, Q.N0.data(), &nc, Q.pivots.data(), x, &nc, &info);
+      return info == 0;
+    }
+  }
+  return true;
 }
 
 long newton(KN<double> *const &pcFree, KN<double> *const &pc, KN<double> *const &pm, KN<double> *const &pinfo) {
@@ -403,22 +572,10 @@ long newton(KN<double> *const &pcFree, KN<double> *const &pc, KN<double> *const 
           break;
         }
     seen[it] = fingerprint;
-    if (Q.key != Q.newtonKey) {
-      for (int jj = 0; jj < nc; jj++)         // column jj of N: rows j use Dw(velocitySlot[j], jj)
-        for (int j = 0; j < nc; j++)
-          Q.N[j + (size_t)jj * nc] = -Q.velocityCoef[j] * F.Dw[Q.velocitySlot[j] + (size_t)jj * nc];
-      for (int j = 0; j < nc; j++) Q.N[j + (size_t)j * nc] += Q.stressCoef[j];
-      int infoLU = 0;
-      dgetrf_(&nc, &nc, Q.N.data(), &nc, Q.pivots.data(), &infoLU);
-      if (infoLU != 0) { residual = NAN; Q.newtonKey.assign(nc, -1); break; }
-      Q.newtonKey = Q.key;
-      Q.factorizations++;
-    }
+    if (Q.key != Q.newtonKey && !newtonPrepare()) { residual = NAN; break; }
     for (int j = 0; j < nc; j++) rhs[j] = Q.relationRhs[j] - Q.velocityCoef[j] * cFree[Q.velocitySlot[j]];
     previous = m;
-    newtonM = rhs;
-    int infoLU = 0;
-    dgetrs_("N", &nc, &one, Q.N.data(), &nc, Q.pivots.data(), newtonM.data(), &nc, &infoLU);
+    if (!newtonSolve(rhs.data(), newtonM.data())) { residual = NAN; break; }
     for (int j = 0; j < nc; j++) d[j] = newtonM[j] - previous[j];
     double step = 1;
     for (int cut = 0; cut <= 10; cut++) {
@@ -435,8 +592,9 @@ long newton(KN<double> *const &pcFree, KN<double> *const &pc, KN<double> *const 
   }
   if (Q.r != Q.rDefault) for (int j = 0; j < nc; j++) Q.setAugmentation(j, Q.rDefault[j]);
   for (int j = 0; j < nc; j++) { cK[j] = c[j]; mK[j] = m[j]; }
-  if (info.N() != 5) info.resize(5);
+  if (info.N() != 6) info.resize(6);
   info[0] = residual; info[1] = it; info[2] = Q.cuts; info[3] = Q.halvings; info[4] = Q.factorizations;
+  info[5] = Q.corrections;
   return residual <= Q.tol ? it : -1;
 }
 
@@ -448,6 +606,8 @@ static void Load_Init() {
   Global.Add("contactKernelSolve", "(", new OneOperator2_<long, KN<double> *, KN<double> *>(solve));
   Global.Add("contactKernelFree", "(", new OneOperator2_<long, KN<double> *, KN<double> *>(freeVelocity));
   Global.Add("contactKernelFinish", "(", new OneOperator2_<long, KN<double> *, KN<double> *>(finish));
+  Global.Add("contactKernelProducts", "(", new OneOperator3_<long, Matrice_Creuse<double> *, Matrice_Creuse<double> *, Matrice_Creuse<double> *>(products));
+  Global.Add("contactKernelMultiply", "(", new OneOperator4_<long, KN<double> *, KN<double> *, KN<double> *, KN<double> *>(multiply));
   Global.Add("contactKernelLaws", "(", new OneOperator4_<long, KN<long> *, KN<long> *, KN<double> *, KN<double> *>(laws));
   Global.Add("contactKernelNewton", "(", new OneOperator4_<long, KN<double> *, KN<double> *, KN<double> *, KN<double> *>(newton));
 }

@@ -69,19 +69,24 @@ def steps_table(bench):
         steps = value(r, "steps")
         its = value(r, "iterations_total")
         backsub, median = value(r, "time_backsubstitution"), value(r, "time_step_median")
+        umfpack = value(r, "time_backsubstitution_umfpack")
         rows.append([name, f"{m.group(1)}x{m.group(2)}", int(value(r, "dofs")) if r["converged"] else -1,
                      int(value(r, "contact_slots")) if r["converged"] else -1, m.group(3), m.group(4),
                      int(steps) if r["converged"] else -1, int(r["converged"]), r["wall"],
                      value(r, "time_assembly"), value(r, "time_factorization"), value(r, "time_condensation"),
-                     backsub, median, median / backsub if backsub > 0 else NAN,
+                     backsub, umfpack, median, median / backsub if backsub > 0 else NAN,
+                     median / umfpack if umfpack > 0 else NAN,
                      its / steps if steps > 0 else NAN, value(r, "iterations_max"), r["peak_MB"]])
     columns = ("run mesh dofs contact_slots mode problem steps converged wall time_assembly time_factorization "
-               "time_condensation time_backsubstitution time_step_median step_over_floor iterations_mean "
+               "time_condensation time_backsubstitution time_backsubstitution_umfpack time_step_median "
+               "step_over_floor step_over_umfpack_floor iterations_mean "
                "iterations_max peak_memory_MB").split()
     write_table(os.path.join(bench, "steps.txt"),
-                ["cost per time step: time_step_median (CPU s) against the floor time_backsubstitution (one solve",
-                 "with the factorized S, median of 5, same run); setup times and wall in wall seconds; peak memory",
-                 "of the whole FreeFEM process"], columns, rows)
+                ["cost per time step: time_step_median (CPU s) against the floor time_backsubstitution (one",
+                 "back-substitution with the kernel's Cholesky factor of S, median of 21, same run) and against",
+                 "time_backsubstitution_umfpack (one back-substitution with FreeFEM's default UMFPACK, median of 5,",
+                 "same run; nan when not measured); setup times and wall in wall seconds; peak memory of the",
+                 "whole FreeFEM process"], columns, rows)
     return columns, rows
 
 
@@ -121,22 +126,28 @@ def work_precision_table(bench, reference):
 def chart_cost_per_step(bench, columns, rows):
     c = {name: i for i, name in enumerate(columns)}
     fig, (left, right) = plt.subplots(1, 2)
-    floors = {}
+    floors, umfpack_floors = {}, {}
     for r in rows:
         if r[c["converged"]]:
             floors.setdefault(r[c["dofs"]], []).append(r[c["time_backsubstitution"]])
+            if not math.isnan(r[c["time_backsubstitution_umfpack"]]):
+                umfpack_floors.setdefault(r[c["dofs"]], []).append(r[c["time_backsubstitution_umfpack"]])
     floor_pts = sorted((dofs, sorted(f)[len(f) // 2]) for dofs, f in floors.items())   # median per mesh
+    umfpack_pts = sorted((dofs, sorted(f)[len(f) // 2]) for dofs, f in umfpack_floors.items())
     for (mode, problem), style in ((("newton", "original"), "o-"), (("newton", "penalty"), "s--"),
-                                   (("full", "original"), "^-"), (("fixedpoint", "original"), "v-")):
+                                   (("script", "original"), "D-"), (("full", "original"), "^-"),
+                                   (("fixedpoint", "original"), "v-")):
         pts = sorted((r[c["dofs"]], r[c["time_step_median"]]) for r in rows
                      if r[c["mode"]] == mode and r[c["problem"]] == problem and r[c["converged"]]
                      and not r[c["run"]].endswith("T0.05"))
         if pts:
             left.loglog(*zip(*pts), style, label=f"{mode}, {problem}")
     if floor_pts:
-        left.loglog(*zip(*floor_pts), "k:", linewidth=2, label="floor: one back-substitution with S")
+        left.loglog(*zip(*floor_pts), "k:", linewidth=2, label="floor: one back-substitution (kernel, Cholesky)")
         left.loglog([p[0] for p in floor_pts], [2 * p[1] for p in floor_pts], color="0.6", linewidth=1,
                     label="2 x floor")
+    if umfpack_pts:
+        left.loglog(*zip(*umfpack_pts), "k-.", linewidth=1, label="one back-substitution with FreeFEM's UMFPACK")
     left.set_xlabel("degrees of freedom")
     left.set_ylabel("CPU seconds per time step (median)")
     left.set_title("cost of a time step")
@@ -210,11 +221,14 @@ def main():
     plt.rcParams.update(STYLE)
     columns, rows = steps_table(args.bench)
     c = {name: i for i, name in enumerate(columns)}
-    print(f"  {'run':40s} {'dofs':>7s} {'floor ms':>9s} {'step ms':>9s} {'ratio':>6s} {'it/step':>7s} {'setup s':>8s} {'MB':>6s}")
+    print(f"  {'run':40s} {'dofs':>7s} {'floor ms':>9s} {'umfpack ms':>10s} {'step ms':>9s} {'ratio':>6s} {'vs umf':>6s} "
+          f"{'it/step':>7s} {'setup s':>8s} {'MB':>6s}")
     for r in rows:
         setup = r[c["time_assembly"]] + r[c["time_factorization"]] + r[c["time_condensation"]]
-        print(f"  {r[0]:40s} {r[c['dofs']]:7d} {1e3 * r[c['time_backsubstitution']]:9.2f} "
-              f"{1e3 * r[c['time_step_median']]:9.2f} {r[c['step_over_floor']]:6.2f} {r[c['iterations_mean']]:7.2f} "
+        print(f"  {r[0]:40s} {r[c['dofs']]:7d} {1e3 * r[c['time_backsubstitution']]:9.3f} "
+              f"{1e3 * r[c['time_backsubstitution_umfpack']]:10.3f} "
+              f"{1e3 * r[c['time_step_median']]:9.3f} {r[c['step_over_floor']]:6.2f} {r[c['step_over_umfpack_floor']]:6.2f} "
+              f"{r[c['iterations_mean']]:7.2f} "
               f"{setup:8.2f} {r[c['peak_memory_MB']]:6.0f}")
     chart_cost_per_step(args.bench, columns, rows)
     icolumns, irows = iterations_table(args.bench)

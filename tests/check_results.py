@@ -234,6 +234,31 @@ class Checker:
                     err = np.abs(a[:, ca.index(col)] - b[:, cb.index(col)]).max() / scale
                     self.expect(err <= rtol, f"{name} {col}: difference {err:.3e} of the scale of {'/'.join(family)}"
                                 f" > {rtol:g} vs {other_folder}")
+        # the histories (when both folders have them): energy terms and forces (same rule),
+        # zone counts and zone boundaries equal
+        for name, families, exact in (
+                ("history.txt", (("kinetic", "elastic", "numerical_dissipation", "viscous_dissipation",
+                                  "contact_dissipation", "external_work", "kinetic_jump", "elastic_jump"),), ()),
+                ("contact_history.txt", (("normal_force", "tangential_force"),),
+                 ("zone_free", "zone_damped_slip", "zone_damped_stick", "zone_bound_slip", "zone_bound_stick",
+                  "x_B", "x_C"))):
+            if not (os.path.isfile(os.path.join(self.folder, name)) and os.path.isfile(os.path.join(other_folder, name))):
+                continue
+            _, ca, a = read_table(os.path.join(self.folder, name))
+            _, cb, b = read_table(os.path.join(other_folder, name))
+            if not self.expect(a.shape == b.shape, f"{name}: shapes differ {a.shape} {b.shape}"):
+                continue
+            for family in families:
+                scale = max(max(np.abs(a[:, ca.index(col)]).max(), np.abs(b[:, cb.index(col)]).max()) for col in family)
+                scale = max(scale, 1e-300)
+                for col in family:
+                    err = np.abs(a[:, ca.index(col)] - b[:, cb.index(col)]).max() / scale
+                    self.expect(err <= rtol, f"{name} {col}: difference {err:.3e} of the scale of {'/'.join(family)}"
+                                f" > {rtol:g} vs {other_folder}")
+            for col in exact:
+                x, y = a[:, ca.index(col)], b[:, cb.index(col)]
+                differ = ~((x == y) | (np.isnan(x) & np.isnan(y)))
+                self.expect(not differ.any(), f"{name} {col}: differs at {int(differ.sum())} steps vs {other_folder}")
 
 
 def main():

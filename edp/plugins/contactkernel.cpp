@@ -18,6 +18,9 @@
 //    comments there for the nodal laws); in compiled code the per-slot loops cost nothing.
 //    The script version runs the fixed point and the full-system Newton (-solver full),
 //    which the tests compare with this kernel.
+// 3. The record of a step (the energy terms of history.txt, the forces, zones and x_B, x_C
+//    of contact_history.txt), for the same reason: on the paper mesh FreeFEM's interpreter
+//    spent as long on them as the back-substitution takes. Script version: -kernel script.
 //
 // FreeFEM functions (int = FreeFEM int; 0 means success unless said):
 //   contactKernelFactorize(matrix S, matrix C)   factorize S, C's columns ordered last;
@@ -29,6 +32,11 @@
 //       the b of the last contactKernelFree (backward half)
 //   contactKernelProducts(matrix M, matrix A, matrix B)   keep M, A, B (one pattern) for:
 //   contactKernelMultiply(real[int] v, real[int] Mv, real[int] Av, real[int] Bv)  three products
+//   contactKernelRecordSetup(real[int] f, real[int] nodeX, real[int] nodeW, int[int] normalSlot,
+//       int[int] tangentSlot, real[int] [g, none])   the data of contactKernelRecord:
+//   contactKernelRecord(real[int] v, real[int] vOld, real[int] u, real[int] Lambda, real[int] Mv,
+//       real[int] Bu, real[int] record)   the energy terms and nodal quantities of a step
+//       (see stepRecord below)
 //   contactKernelLaws(int[int] kind, int[int] partner, real[int] r, real[int] p)  the laws:
 //       kind 0 normal / 1 tangential, partner = normal slot of a tangential slot (-1 none),
 //       r = augmentation per slot, p = [cnu, g, mu, eps, penalty, literal, tol, maxit,
@@ -71,7 +79,7 @@ struct Factor {
   cholmod_dense *work = nullptr, *x = nullptr, *y = nullptr, *e = nullptr;
   int n = 0, nc = 0, nt = 0;            // unknowns, contact slots, trailing (contact) unknowns
   std::vector<double> Ltrail;           // L_CC, nt x nt, column-major, lower triangular
-  std::vector<int> slotOf, posOf;       // C as triplets: slot, trailing position, value
+  std::vector<int> slotOf, posOf, dofOf; // C as triplets: slot, trailing position (dof), value
   std::vector<double> valOf;
   std::vector<double> weight;           // W per slot (set by contactKernelDelassus)
   std::vector<double> z;                // forward sweep of the last contactKernelFree
@@ -156,9 +164,10 @@ long factorize(Matrice_Creuse<double> *const &pS, Matrice_Creuse<double> *const 
   for (int i = 0; i < n; i++) nt += member[i];
   F.nt = nt;
   for (int i = 0; i < n; i++) if (member[i] && position[i] < n - nt) return 2;
-  F.slotOf.clear(); F.posOf.clear(); F.valOf.clear();
+  F.slotOf.clear(); F.posOf.clear(); F.valOf.clear(); F.dofOf.clear();
   for (size_t k = 0; k < C.nnz; k++) if (C.aij[k] != 0) {
     F.slotOf.push_back(C.i[k]); F.posOf.push_back(position[C.j[k]] - (n - nt)); F.valOf.push_back(C.aij[k]);
+    F.dofOf.push_back(C.j[k]);
   }
 
   // L_CC from the supernodal factor: the columns n - nt ... n - 1 and their rows
@@ -335,6 +344,92 @@ long multiply(KN<double> *const &pv, KN<double> *const &pMv, KN<double> *const &
     }
     Mv[i] = m; Av[i] = a; Bv[i] = b;
   }
+  return 0;
+}
+
+// ---------------------------------------------------------------- the record of a step
+// What history.txt and contact_history.txt keep of a step, computed in one call: the terms
+// of the discrete energy balance (DESIGN.md section 5) and the nodal quantities on Gamma3.
+// The script version, and the definitions, are in edp/solve.edp (-kernel script) and
+// nodalState in edp/lib/contact.idp; the tests compare the two.
+struct Record {
+  std::vector<double> f, nodeX, nodeW;  // unit traction; contact nodes sorted by x, weights
+  std::vector<int> normalSlot, tangentSlot;
+  double g = 0, none = 1e300;
+  bool ready = false;
+};
+Record RC;
+
+long recordSetup(KN<double> *const &pf, KN<double> *const &px, KN<double> *const &pw,
+                 KN<long> *const &pns, KN<long> *const &pts, KN<double> *const &pp) {
+  KN<double> &f = *pf, &x = *px, &w = *pw, &p = *pp;
+  KN<long> &ns = *pns, &ts = *pts;
+  const int nn = x.N();
+  if (w.N() != nn || ns.N() != nn || ts.N() != nn || p.N() != 2) ExecError("contactKernelRecordSetup: wrong argument sizes");
+  RC.f.assign(f.N(), 0.);
+  for (int i = 0; i < f.N(); i++) RC.f[i] = f[i];
+  RC.nodeX.resize(nn); RC.nodeW.resize(nn); RC.normalSlot.resize(nn); RC.tangentSlot.resize(nn);
+  for (int i = 0; i < nn; i++) { RC.nodeX[i] = x[i]; RC.nodeW[i] = w[i]; RC.normalSlot[i] = ns[i]; RC.tangentSlot[i] = ts[i]; }
+  RC.g = p[0]; RC.none = p[1];
+  RC.ready = true;
+  return 0;
+}
+
+// In: v = v_n, vOld = v_{n-1}, u = u_n, Lam (total contact stress per slot), record[0] = k,
+// record[1] = the load factor of f_n (load * t). Out: Mv = M v_n and Bu = B u_n (for the
+// next right-hand side) and record = [kinetic, elastic, kinetic_jump, elastic_jump,
+// viscous_dissipation, contact_dissipation, external_work, normal_force, tangential_force,
+// the five zone counts, x_B, x_C].
+long stepRecord(KN<double> *const &pv, KN<double> *const &pvOld, KN<double> *const &pu, KN<double> *const &pLam,
+                KN<double> *const &pMv, KN<double> *const &pBu, KN<double> *const &prec) {
+  if (P3.n == 0 || !RC.ready || F.weight.empty()) ExecError("contactKernelRecord: call contactKernelProducts, contactKernelDelassus and contactKernelRecordSetup first");
+  KN<double> &v = *pv, &vOld = *pvOld, &u = *pu, &Lam = *pLam, &Mv = *pMv, &Bu = *pBu, &rec = *prec;
+  const int n = P3.n;
+  if (v.N() != n || vOld.N() != n || u.N() != n || (int)RC.f.size() != n || Lam.N() != F.nc || rec.N() < 2)
+    ExecError("contactKernelRecord: wrong argument sizes");
+  const double k = rec[0], loadFactor = rec[1];
+  if (Mv.N() != n) Mv.resize(n);
+  if (Bu.N() != n) Bu.resize(n);
+  double vMv = 0, vAv = 0, vBv = 0, dvMdv = 0, uBu = 0, fv = 0;
+  const double *val = P3.values.data();
+  for (int i = 0; i < n; i++) {
+    double m = 0, a = 0, b = 0, md = 0, bu = 0;
+    for (int e = P3.start[i]; e < P3.start[i + 1]; e++) {
+      int j = P3.column[e];
+      double vj = v[j], dj = v[j] - vOld[j];
+      m += val[3 * e] * vj; a += val[3 * e + 1] * vj; b += val[3 * e + 2] * vj;
+      md += val[3 * e] * dj; bu += val[3 * e + 2] * u[j];
+    }
+    Mv[i] = m; Bu[i] = bu;
+    vMv += v[i] * m; vAv += v[i] * a; vBv += v[i] * b; dvMdv += (v[i] - vOld[i]) * md; uBu += u[i] * bu;
+    fv += RC.f[i] * v[i];
+  }
+  // slot velocities C v, and the contact term (C' W Lambda)' v
+  std::vector<double> cv(F.nc, 0.);
+  for (size_t e = 0; e < F.slotOf.size(); e++) cv[F.slotOf[e]] += F.valOf[e] * v[F.dofOf[e]];
+  double contact = 0;
+  for (int j = 0; j < F.nc; j++) contact += F.weight[j] * Lam[j] * cv[j];
+  if (rec.N() != 16) rec.resize(16);
+  rec[0] = 0.5 * vMv; rec[1] = 0.5 * uBu; rec[2] = 0.5 * dvMdv; rec[3] = 0.5 * k * k * vBv;
+  rec[4] = k * vAv; rec[5] = k * contact; rec[6] = k * loadFactor * fv;
+  // nodal quantities: the statuses and zones of nodalState (edp/lib/contact.idp)
+  double normalForce = 0, tangentialForce = 0, xB = RC.none, xC = RC.none;
+  long zones[5] = {0, 0, 0, 0, 0};
+  for (size_t i = 0; i < RC.nodeX.size(); i++) {
+    int sn = RC.normalSlot[i], st = RC.tangentSlot[i];
+    double vn = sn >= 0 ? cv[sn] : 0., vt = st >= 0 ? cv[st] : 0.;
+    double pn = sn >= 0 ? Lam[sn] : 0., lt = st >= 0 ? Lam[st] : 0.;
+    int normalStatus = vn <= 0 ? 0 : (vn >= RC.g * (1 - 1e-6) ? 2 : 1);
+    int tangentStatus = std::fabs(vt) <= 1e-6 * RC.g ? 0 : 1;
+    zones[normalStatus > 0 ? 2 * normalStatus - tangentStatus : 0]++;
+    if (normalStatus == 2) xB = std::min(xB, RC.nodeX[i]);
+    if (normalStatus > 0 && tangentStatus == 0) xC = std::min(xC, RC.nodeX[i]);
+    normalForce += RC.nodeW[i] * pn;
+    tangentialForce += RC.nodeW[i] * lt;
+  }
+  rec[7] = normalForce; rec[8] = tangentialForce;
+  for (int z = 0; z < 5; z++) rec[9 + z] = zones[z];
+  rec[14] = xB; rec[15] = xC;
   return 0;
 }
 
@@ -608,6 +703,8 @@ static void Load_Init() {
   Global.Add("contactKernelFinish", "(", new OneOperator2_<long, KN<double> *, KN<double> *>(finish));
   Global.Add("contactKernelProducts", "(", new OneOperator3_<long, Matrice_Creuse<double> *, Matrice_Creuse<double> *, Matrice_Creuse<double> *>(products));
   Global.Add("contactKernelMultiply", "(", new OneOperator4_<long, KN<double> *, KN<double> *, KN<double> *, KN<double> *>(multiply));
+  Global.Add("contactKernelRecordSetup", "(", new OneOperator6_<long, KN<double> *, KN<double> *, KN<double> *, KN<long> *, KN<long> *, KN<double> *>(recordSetup));
+  Global.Add("contactKernelRecord", "(", new OneOperator7_<long, KN<double> *, KN<double> *, KN<double> *, KN<double> *, KN<double> *, KN<double> *, KN<double> *>(stepRecord));
   Global.Add("contactKernelLaws", "(", new OneOperator4_<long, KN<long> *, KN<long> *, KN<double> *, KN<double> *>(laws));
   Global.Add("contactKernelNewton", "(", new OneOperator4_<long, KN<double> *, KN<double> *, KN<double> *, KN<double> *>(newton));
 }

@@ -217,49 +217,38 @@ class Checker:
         self.expect(err_v <= slack / cnu + 1e-10 * g, f"v_nu differs from min(q/c_nu, g) = {vexact} by {err_v:.3e}")
         self.expect(np.abs(c["lambda_tau"]).max() == 0.0 or self.real("mu") > 0, "lambda_tau != 0 without friction")
 
+    def compare_tables(self, other_folder, name, families, exact, rtol):
+        """Columns of one family (velocities, stresses, displacements, energy terms, forces)
+        differ by at most rtol of the family's scale, so that a column that is round-off in
+        both runs (lambda_nu before any node reaches the bound, lambda_tau without friction)
+        is compared as such; the `exact` columns (zone counts and boundaries) are equal."""
+        _, ca, a = read_table(os.path.join(self.folder, name))
+        _, cb, b = read_table(os.path.join(other_folder, name))
+        if not self.expect(a.shape == b.shape, f"{name}: shapes differ {a.shape} {b.shape}"):
+            return
+        for family in families:
+            scale = max(max(np.abs(a[:, ca.index(col)]).max(), np.abs(b[:, cb.index(col)]).max()) for col in family)
+            scale = max(scale, 1e-300)
+            for col in family:
+                err = np.abs(a[:, ca.index(col)] - b[:, cb.index(col)]).max() / scale
+                self.expect(err <= rtol, f"{name} {col}: difference {err:.3e} of the scale of {'/'.join(family)}"
+                            f" > {rtol:g} vs {other_folder}")
+        for col in exact:
+            x, y = a[:, ca.index(col)], b[:, cb.index(col)]
+            differ = ~((x == y) | (np.isnan(x) & np.isnan(y)))
+            self.expect(not differ.any(), f"{name} {col}: differs at {int(differ.sum())} steps vs {other_folder}")
+
     def compare(self, other_folder, rtol):
-        # Differences are relative to the scale of the column's family (velocities, stresses,
-        # displacements), so that a column that is round-off in both runs (lambda_nu before
-        # any node reaches the bound, lambda_tau without friction) is compared as such.
-        for name, families in (("contact.txt", (("v_nu", "v_tau"), ("p_nu", "lambda_nu", "lambda_tau"))),
-                               ("fields.txt", (("u_x", "u_y"), ("v_x", "v_y")))):
-            _, ca, a = read_table(os.path.join(self.folder, name))
-            _, cb, b = read_table(os.path.join(other_folder, name))
-            if not self.expect(a.shape == b.shape, f"{name}: shapes differ {a.shape} {b.shape}"):
-                continue
-            for family in families:
-                scale = max(max(np.abs(a[:, ca.index(col)]).max(), np.abs(b[:, cb.index(col)]).max()) for col in family)
-                scale = max(scale, 1e-300)
-                for col in family:
-                    err = np.abs(a[:, ca.index(col)] - b[:, cb.index(col)]).max() / scale
-                    self.expect(err <= rtol, f"{name} {col}: difference {err:.3e} of the scale of {'/'.join(family)}"
-                                f" > {rtol:g} vs {other_folder}")
-        # the histories (when both folders have them): energy terms and forces (same rule),
-        # zone counts and zone boundaries equal
+        self.compare_tables(other_folder, "contact.txt",
+                            (("v_nu", "v_tau"), ("p_nu", "lambda_nu", "lambda_tau")), (), rtol)
+        self.compare_tables(other_folder, "fields.txt", (("u_x", "u_y"), ("v_x", "v_y")), (), rtol)
+        # the histories, when both folders have them
         for name, families, exact in (
                 ("history.txt", (("kinetic", "elastic", "numerical_dissipation", "viscous_dissipation",
                                   "contact_dissipation", "external_work", "kinetic_jump", "elastic_jump"),), ()),
-                ("contact_history.txt", (("normal_force", "tangential_force"),),
-                 ("zone_free", "zone_damped_slip", "zone_damped_stick", "zone_bound_slip", "zone_bound_stick",
-                  "x_B", "x_C"))):
-            if not (os.path.isfile(os.path.join(self.folder, name)) and os.path.isfile(os.path.join(other_folder, name))):
-                continue
-            _, ca, a = read_table(os.path.join(self.folder, name))
-            _, cb, b = read_table(os.path.join(other_folder, name))
-            if not self.expect(a.shape == b.shape, f"{name}: shapes differ {a.shape} {b.shape}"):
-                continue
-            for family in families:
-                scale = max(max(np.abs(a[:, ca.index(col)]).max(), np.abs(b[:, cb.index(col)]).max()) for col in family)
-                scale = max(scale, 1e-300)
-                for col in family:
-                    err = np.abs(a[:, ca.index(col)] - b[:, cb.index(col)]).max() / scale
-                    self.expect(err <= rtol, f"{name} {col}: difference {err:.3e} of the scale of {'/'.join(family)}"
-                                f" > {rtol:g} vs {other_folder}")
-            for col in exact:
-                x, y = a[:, ca.index(col)], b[:, cb.index(col)]
-                differ = ~((x == y) | (np.isnan(x) & np.isnan(y)))
-                self.expect(not differ.any(), f"{name} {col}: differs at {int(differ.sum())} steps vs {other_folder}")
-
+                ("contact_history.txt", (("normal_force", "tangential_force"),), self.ZONES + ("x_B", "x_C"))):
+            if os.path.isfile(os.path.join(self.folder, name)) and os.path.isfile(os.path.join(other_folder, name)):
+                self.compare_tables(other_folder, name, families, exact, rtol)
 
 def main():
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)

@@ -35,8 +35,8 @@
 //   contactKernelRecordSetup(real[int] f, real[int] nodeX, real[int] nodeW, int[int] normalSlot,
 //       int[int] tangentSlot, real[int] [g, none])   the data of contactKernelRecord:
 //   contactKernelRecord(real[int] v, real[int] vOld, real[int] u, real[int] Lambda, real[int] Mv,
-//       real[int] Bu, real[int] record)   the energy terms and nodal quantities of a step
-//       (see stepRecord below)
+//       real[int] Bu, real[int] record)   the energy terms, the energy balance and the nodal
+//       quantities of a step; returns 0, or 1 if the balance is not finite (see stepRecord)
 //   contactKernelLaws(int[int] kind, int[int] partner, real[int] r, real[int] p)  the laws:
 //       kind 0 normal / 1 tangential, partner = normal slot of a tangential slot (-1 none),
 //       r = augmentation per slot, p = [cnu, g, mu, eps, penalty, literal, tol, maxit,
@@ -281,6 +281,13 @@ long finish(KN<double> *const &pm, KN<double> *const &pv) {
   return 0;
 }
 
+// The data of a FreeFEM array as a plain pointer (the loops below index it directly: through
+// KN's strided operator[] they take twice as long). Arrays declared in a script have step 1.
+static double *contiguous(KN<double> &a, const char *what) {
+  if (a.N() > 1 && a.step != 1) ExecError(what);
+  return a.N() > 0 ? &a[0] : nullptr;
+}
+
 // ---------------------------------------------------------------- products with M, A, B
 // The three matrices of the energy terms share one sparsity pattern (P1 on one mesh): kept
 // as one CSR structure with three values per entry, so that M v, A v and B v cost one pass.
@@ -288,6 +295,20 @@ struct Products {
   int n = 0;
   std::vector<int> start, column;
   std::vector<double> values;       // 3 per entry: M, A, B
+
+  // Mx, Ax, Bx for x (all of size n)
+  void apply(const double *x, double *mx, double *ax, double *bx) const {
+    const double *val = values.data();
+    const int *col = column.data();
+    for (int i = 0; i < n; i++) {
+      double m = 0, a = 0, b = 0;
+      for (int e = start[i]; e < start[i + 1]; e++) {
+        const double xj = x[col[e]];
+        m += val[3 * e] * xj; a += val[3 * e + 1] * xj; b += val[3 * e + 2] * xj;
+      }
+      mx[i] = m; ax[i] = a; bx[i] = b;
+    }
+  }
 };
 Products P3;
 
@@ -298,7 +319,6 @@ long products(Matrice_Creuse<double> *const &pM, Matrice_Creuse<double> *const &
     if (mats[k]->n != n || mats[k]->m != n || mats[k]->half)
       ExecError("contactKernelProducts: M, A, B must be square, of one size, stored in full (not sym)");
   // the union of the three patterns, row by row, with the values of each matrix
-  std::vector<std::vector<std::pair<int, int>>> rows(n);   // (column, index into merged values)
   std::vector<std::pair<long long, double>> entries[3];
   for (int k = 0; k < 3; k++) {
     mats[k]->COO();
@@ -333,17 +353,11 @@ long multiply(KN<double> *const &pv, KN<double> *const &pMv, KN<double> *const &
   if (Mv.N() != n) Mv.resize(n);
   if (Av.N() != n) Av.resize(n);
   if (Bv.N() != n) Bv.resize(n);
-  std::vector<double> x(n);
-  for (int i = 0; i < n; i++) x[i] = v[i];
-  const double *val = P3.values.data();
-  for (int i = 0; i < n; i++) {
-    double m = 0, a = 0, b = 0;
-    for (int e = P3.start[i]; e < P3.start[i + 1]; e++) {
-      double xj = x[P3.column[e]];
-      m += val[3 * e] * xj; a += val[3 * e + 1] * xj; b += val[3 * e + 2] * xj;
-    }
-    Mv[i] = m; Av[i] = a; Bv[i] = b;
-  }
+  const char *strided = "contactKernelMultiply: arrays must be contiguous";
+  const double *x = contiguous(v, strided);
+  double *pm = contiguous(Mv, strided), *pa = contiguous(Av, strided), *pb = contiguous(Bv, strided);
+  if (x == pm || x == pa || x == pb) ExecError("contactKernelMultiply: v must not be one of Mv, Av, Bv");
+  P3.apply(x, pm, pa, pb);
   return 0;
 }
 
@@ -356,6 +370,8 @@ struct Record {
   std::vector<double> f, nodeX, nodeW;  // unit traction; contact nodes sorted by x, weights
   std::vector<int> normalSlot, tangentSlot;
   double g = 0, none = 1e300;
+  std::vector<double> Mv, Av, Bv;       // workspace
+  double energyOld = 0;                 // kinetic + elastic of the previous step
   bool ready = false;
 };
 Record RC;
@@ -371,15 +387,18 @@ long recordSetup(KN<double> *const &pf, KN<double> *const &px, KN<double> *const
   RC.nodeX.resize(nn); RC.nodeW.resize(nn); RC.normalSlot.resize(nn); RC.tangentSlot.resize(nn);
   for (int i = 0; i < nn; i++) { RC.nodeX[i] = x[i]; RC.nodeW[i] = w[i]; RC.normalSlot[i] = ns[i]; RC.tangentSlot[i] = ts[i]; }
   RC.g = p[0]; RC.none = p[1];
+  RC.energyOld = 0;                     // u_0 = v_0 = 0
   RC.ready = true;
   return 0;
 }
 
-// In: v = v_n, vOld = v_{n-1}, u = u_n, Lam (total contact stress per slot), record[0] = k,
-// record[1] = the load factor of f_n (load * t). Out: Mv = M v_n and Bu = B u_n (for the
-// next right-hand side) and record = [kinetic, elastic, kinetic_jump, elastic_jump,
-// viscous_dissipation, contact_dissipation, external_work, normal_force, tangential_force,
-// the five zone counts, x_B, x_C].
+// In: v = v_n, vOld = v_{n-1}, u = u_n, Lam (total contact stress per slot), Mv = M v_{n-1},
+// Bu = B u_{n-1}, record[0] = k, record[1] = the load factor of f_n (load * t).
+// Out: Mv = M v_n and Bu = B u_n (for the next right-hand side) and record = [kinetic,
+// elastic, numerical_dissipation, viscous_dissipation, contact_dissipation, external_work,
+// energy_residual, kinetic_jump, elastic_jump, normal_force, tangential_force, the five zone
+// counts, x_B, x_C] (the columns of history.txt and contact_history.txt). The balance uses
+// kinetic + elastic of the previous call (0 after contactKernelRecordSetup: u_0 = v_0 = 0).
 long stepRecord(KN<double> *const &pv, KN<double> *const &pvOld, KN<double> *const &pu, KN<double> *const &pLam,
                 KN<double> *const &pMv, KN<double> *const &pBu, KN<double> *const &prec) {
   if (P3.n == 0 || !RC.ready || F.weight.empty()) ExecError("contactKernelRecord: call contactKernelProducts, contactKernelDelassus and contactKernelRecordSetup first");
@@ -388,30 +407,41 @@ long stepRecord(KN<double> *const &pv, KN<double> *const &pvOld, KN<double> *con
   if (v.N() != n || vOld.N() != n || u.N() != n || (int)RC.f.size() != n || Lam.N() != F.nc || rec.N() < 2)
     ExecError("contactKernelRecord: wrong argument sizes");
   const double k = rec[0], loadFactor = rec[1];
-  if (Mv.N() != n) Mv.resize(n);
-  if (Bu.N() != n) Bu.resize(n);
+  if (Mv.N() != n || Bu.N() != n) ExecError("contactKernelRecord: wrong size of Mv or Bu");
+  // three products in one pass; as in the script version, M (v_n - v_{n-1}) = M v_n - M v_{n-1}
+  // and B u_n = B u_{n-1} + k B v_n (u_n = u_{n-1} + k v_n), so no product with vOld or u
+  const char *strided = "contactKernelRecord: arrays must be contiguous";
+  const double *pv0 = contiguous(v, strided), *pvOld0 = contiguous(vOld, strided), *pu0 = contiguous(u, strided);
+  double *pMv0 = contiguous(Mv, strided), *pBu0 = contiguous(Bu, strided);
+  const double *f = RC.f.data();
+  std::vector<double> &m = RC.Mv, &a = RC.Av, &b = RC.Bv;
+  m.resize(n); a.resize(n); b.resize(n);
+  P3.apply(pv0, m.data(), a.data(), b.data());
   double vMv = 0, vAv = 0, vBv = 0, dvMdv = 0, uBu = 0, fv = 0;
-  const double *val = P3.values.data();
   for (int i = 0; i < n; i++) {
-    double m = 0, a = 0, b = 0, md = 0, bu = 0;
-    for (int e = P3.start[i]; e < P3.start[i + 1]; e++) {
-      int j = P3.column[e];
-      double vj = v[j], dj = v[j] - vOld[j];
-      m += val[3 * e] * vj; a += val[3 * e + 1] * vj; b += val[3 * e + 2] * vj;
-      md += val[3 * e] * dj; bu += val[3 * e + 2] * u[j];
-    }
-    Mv[i] = m; Bu[i] = bu;
-    vMv += v[i] * m; vAv += v[i] * a; vBv += v[i] * b; dvMdv += (v[i] - vOld[i]) * md; uBu += u[i] * bu;
-    fv += RC.f[i] * v[i];
+    const double vi = pv0[i], bu = pBu0[i] + k * b[i];
+    vMv += vi * m[i]; vAv += vi * a[i]; vBv += vi * b[i]; dvMdv += (vi - pvOld0[i]) * (m[i] - pMv0[i]);
+    uBu += pu0[i] * bu;
+    fv += f[i] * vi;
+    pMv0[i] = m[i]; pBu0[i] = bu;
   }
   // slot velocities C v, and the contact term (C' W Lambda)' v
   std::vector<double> cv(F.nc, 0.);
   for (size_t e = 0; e < F.slotOf.size(); e++) cv[F.slotOf[e]] += F.valOf[e] * v[F.dofOf[e]];
   double contact = 0;
   for (int j = 0; j < F.nc; j++) contact += F.weight[j] * Lam[j] * cv[j];
-  if (rec.N() != 16) rec.resize(16);
-  rec[0] = 0.5 * vMv; rec[1] = 0.5 * uBu; rec[2] = 0.5 * dvMdv; rec[3] = 0.5 * k * k * vBv;
-  rec[4] = k * vAv; rec[5] = k * contact; rec[6] = k * loadFactor * fv;
+  if (rec.N() != 18) rec.resize(18);
+  const double kinetic = 0.5 * vMv, elastic = 0.5 * uBu, kineticJump = 0.5 * dvMdv, elasticJump = 0.5 * k * k * vBv;
+  const double viscous = k * vAv, contactWork = k * contact, external = k * loadFactor * fv;
+  const double numerical = kineticJump + elasticJump;
+  // the balance, as in edp/solve.edp
+  const double balance = kinetic + elastic - RC.energyOld + numerical + viscous + contactWork - external;
+  const double largest = std::max({std::fabs(kinetic), std::fabs(elastic), std::fabs(RC.energyOld), numerical,
+                                   viscous, std::fabs(contactWork), std::fabs(external)});
+  RC.energyOld = kinetic + elastic;
+  rec[0] = kinetic; rec[1] = elastic; rec[2] = numerical; rec[3] = viscous; rec[4] = contactWork;
+  rec[5] = external; rec[6] = largest > 0 ? std::fabs(balance) / largest : 0.; rec[7] = kineticJump;
+  rec[8] = elasticJump;
   // nodal quantities: the statuses and zones of nodalState (edp/lib/contact.idp)
   double normalForce = 0, tangentialForce = 0, xB = RC.none, xC = RC.none;
   long zones[5] = {0, 0, 0, 0, 0};
@@ -427,10 +457,10 @@ long stepRecord(KN<double> *const &pv, KN<double> *const &pvOld, KN<double> *con
     normalForce += RC.nodeW[i] * pn;
     tangentialForce += RC.nodeW[i] * lt;
   }
-  rec[7] = normalForce; rec[8] = tangentialForce;
-  for (int z = 0; z < 5; z++) rec[9 + z] = zones[z];
-  rec[14] = xB; rec[15] = xC;
-  return 0;
+  rec[9] = normalForce; rec[10] = tangentialForce;
+  for (int z = 0; z < 5; z++) rec[11 + z] = zones[z];
+  rec[16] = xB; rec[17] = xC;
+  return std::isfinite(balance) ? 0 : 1;
 }
 
 // ---------------------------------------------------------------- the nodal laws and Newton

@@ -134,6 +134,7 @@ def chart_cost_per_step(bench, columns, rows):
                 umfpack_floors.setdefault(r[c["dofs"]], []).append(r[c["time_backsubstitution_umfpack"]])
     floor_pts = sorted((dofs, sorted(f)[len(f) // 2]) for dofs, f in floors.items())   # median per mesh
     umfpack_pts = sorted((dofs, sorted(f)[len(f) // 2]) for dofs, f in umfpack_floors.items())
+    highest = 0.0
     for (mode, problem), style in ((("newton", "original"), "o-"), (("newton", "penalty"), "s--"),
                                    (("script", "original"), "D-"), (("full", "original"), "^-"),
                                    (("fixedpoint", "original"), "v-")):
@@ -142,6 +143,7 @@ def chart_cost_per_step(bench, columns, rows):
                      and not r[c["run"]].endswith("T0.05"))
         if pts:
             left.loglog(*zip(*pts), style, label=f"{mode}, {problem}")
+            highest = max(highest, max(p[1] for p in pts))
     if floor_pts:
         left.loglog(*zip(*floor_pts), "k:", linewidth=2, label="floor: one back-substitution (kernel, Cholesky)")
         left.loglog([p[0] for p in floor_pts], [2 * p[1] for p in floor_pts], color="0.6", linewidth=1,
@@ -151,7 +153,9 @@ def chart_cost_per_step(bench, columns, rows):
     left.set_xlabel("degrees of freedom")
     left.set_ylabel("CPU seconds per time step (median)")
     left.set_title("cost of a time step")
-    left.legend(fontsize=7)
+    if highest > 0:
+        left.set_ylim(top=highest * 300)        # room for the legend above the slowest mode
+    left.legend(fontsize=7, loc="upper right")
     for key, style in (("time_assembly", "o-"), ("time_factorization", "s-"), ("time_condensation", "^-")):
         pts = sorted({(r[c["dofs"]], r[c[key]]) for r in rows
                       if r[c["mode"]] == "newton" and r[c["problem"]] == "original" and r[c["converged"]]})
@@ -177,6 +181,9 @@ def chart_work_precision(bench, columns, rows):
     fig, ax = plt.subplots(figsize=(7, 4.5))
     labels = {"mesh": "mesh h (k = 0.01)", "dt": "time step k (66x33)", "full": "full-system Newton (66x33)",
               "penalty": "penalty eps (66x33, against the original reference)"}
+    # label offsets per family, so that the labels around the 66x33 point do not overlap
+    offsets = {"mesh": ((3, 3), "left"), "dt": ((3, -10), "left"), "full": ((3, 3), "left"),
+               "penalty": ((-4, 3), "right")}
     for family, marker in (("mesh", "o-"), ("dt", "s-"), ("full", "^"), ("penalty", "v-")):
         pts = sorted(((r[c["wall"]], r[c["relative_error_L2"]], r[c["run"]]) for r in rows
                       if r[c["family"]] == family and r[c["converged"]] and not math.isnan(r[c["relative_error_L2"]])),
@@ -185,7 +192,8 @@ def chart_work_precision(bench, columns, rows):
             continue
         ax.loglog([p[0] for p in pts], [p[1] for p in pts], marker, label=labels[family])
         for p in pts:
-            ax.annotate(p[2].split("-", 2)[-1], (p[0], p[1]), fontsize=6, xytext=(3, 3), textcoords="offset points")
+            ax.annotate(p[2].split("-", 2)[-1], (p[0], p[1]), fontsize=6, xytext=offsets[family][0],
+                        textcoords="offset points", ha=offsets[family][1])
     ax.set_xlabel("wall seconds of the whole run (FreeFEM start-up included)")
     ax.set_ylabel(r"$\|v - v_{ref}\|_{L^2(\Omega)} / \|v_{ref}\|$ at T")
     ax.set_title("work and precision")

@@ -166,6 +166,15 @@ class Checker:
         largest[largest == 0] = 1.0
         worst = (np.abs(balance) / largest).max()
         self.expect(worst <= rtol, f"discrete energy balance off by {worst:.3e} (relative to the largest term)")
+        # the solver's own residual column (and its maximum in summary.txt) says the same:
+        # both are round-off, so they agree to rtol (a residual column off by more than
+        # that is a wrong balance in the solver, or a wrong column)
+        reported = h["energy_residual"]
+        off = np.abs(reported - np.abs(balance) / largest).max()
+        self.expect(off <= rtol, f"energy_residual column differs from the recomputed balance by {off:.3e}")
+        if "check_energy_residual" in self.summary:
+            self.expect(float(self.summary["check_energy_residual"]) == reported.max(),
+                        "summary check_energy_residual != max of history energy_residual")
         parts = h["kinetic_jump"] + h["elastic_jump"] - h["numerical_dissipation"]
         self.expect(np.abs(parts).max() <= rtol * largest.max(), "kinetic_jump + elastic_jump != numerical_dissipation")
         for name in ("kinetic", "elastic", "numerical_dissipation", "viscous_dissipation", "contact_dissipation",

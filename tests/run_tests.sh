@@ -150,6 +150,23 @@ if "${FREEFEM[@]}" tests/kernel_check.edp > "$diag" 2>&1 && grep -q "kernel_chec
 else
   report 1 "kernel: solve, Delassus matrix, both halves of the back-substitution = UMFPACK, products = FreeFEM, to 1e-12" "$diag"
 fi
+# calls in a wrong order stop with the kernel's message (FreeFEM's exit code 8 for an
+# execution error), never with a crash or stale data
+while IFS='|' read -r misuse expected; do
+  diag="$work/kernel-misuse-$misuse.diag"; : > "$diag"; status=0
+  "${FREEFEM[@]}" tests/kernel_check.edp -misuse "$misuse" > "$diag" 2>&1 || status=$?
+  if [ "$status" = 8 ] && grep -q "$expected" "$diag"; then
+    report 0 "kernel misuse $misuse refused: $expected"
+  else
+    echo "exit code $status, expected 8 and '$expected'" >> "$diag"
+    report 1 "kernel misuse $misuse refused: $expected" "$diag"
+  fi
+done <<'CASES'
+1|contactKernelSolve without a successful contactKernelFactorize
+2|contactKernelFinish: call contactKernelDelassus first
+3|contactKernelNewton: the factor changed since contactKernelLaws
+4|contactKernelRecordSetup: a slot number is outside
+CASES
 for problem in original penalty; do
   diag="$work/script-$problem.diag"; : > "$diag"; status=0
   if solve -scene paper -problem "$problem" -kernel script -out "$work/script-$problem" > "$diag" 2>&1 \

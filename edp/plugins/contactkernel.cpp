@@ -85,8 +85,16 @@ struct Factor {
   std::vector<double> z;                // forward sweep of the last contactKernelFree
   std::vector<double> Dw;               // nc x nc, column-major
   bool haveForward = false;
+  bool ready = false;                   // a factorization succeeded and nothing since failed
+  long generation = 0;                  // counts the calls of contactKernelFactorize
 
+  // forget the factor and everything derived from it (the weights and Dw of
+  // contactKernelDelassus too: they belong to this factor's C)
   void release() {
+    ready = false; haveForward = false;
+    n = nc = nt = 0;
+    Ltrail.clear(); slotOf.clear(); posOf.clear(); dofOf.clear(); valOf.clear();
+    weight.clear(); z.clear(); Dw.clear();
     if (!started) return;
     if (L) cholmod_free_factor(&L, &common);
     if (work) cholmod_free_dense(&work, &common);
@@ -113,8 +121,19 @@ MatriceMorse<double> *morse(Matrice_Creuse<double> *A) {
   return m;
 }
 
+long factorizeOrFail(Matrice_Creuse<double> *const &pS, Matrice_Creuse<double> *const &pC);
+
+// On any failure the kernel is left with no factor, so that a later call raises an error.
 long factorize(Matrice_Creuse<double> *const &pS, Matrice_Creuse<double> *const &pC) {
   F.release();
+  F.generation++;
+  const long status = factorizeOrFail(pS, pC);
+  if (status != 0) F.release();
+  else F.ready = true;
+  return status;
+}
+
+long factorizeOrFail(Matrice_Creuse<double> *const &pS, Matrice_Creuse<double> *const &pC) {
   MatriceMorse<double> &S = *morse(pS), &C = *morse(pC);
   if (S.n != S.m || C.m != S.n) return 3;
   const int n = S.n;
@@ -194,7 +213,8 @@ long factorize(Matrice_Creuse<double> *const &pS, Matrice_Creuse<double> *const 
 }
 
 void requireFactor(const char *who) {
-  if (!F.L) ExecError(std::string("contactkernel: ") + who + " before contactKernelFactorize");
+  if (!F.ready || !F.L || !F.work)
+    ExecError(std::string("contactkernel: ") + who + " without a successful contactKernelFactorize");
 }
 
 long delassus(KN<double> *const &pW, KNM<double> *const &pDw) {
@@ -372,6 +392,7 @@ struct Record {
   double g = 0, none = 1e300;
   std::vector<double> Mv, Av, Bv;       // workspace
   double energyOld = 0;                 // kinetic + elastic of the previous step
+  long generation = -1;                 // the factor (F.generation) the slots belong to
   bool ready = false;
 };
 Record RC;
@@ -382,12 +403,17 @@ long recordSetup(KN<double> *const &pf, KN<double> *const &px, KN<double> *const
   KN<long> &ns = *pns, &ts = *pts;
   const int nn = x.N();
   if (w.N() != nn || ns.N() != nn || ts.N() != nn || p.N() != 2) ExecError("contactKernelRecordSetup: wrong argument sizes");
+  if (!F.ready || F.weight.empty()) ExecError("contactKernelRecordSetup: call contactKernelFactorize and contactKernelDelassus first");
+  for (int i = 0; i < nn; i++)
+    if (ns[i] < -1 || ns[i] >= F.nc || ts[i] < -1 || ts[i] >= F.nc)
+      ExecError("contactKernelRecordSetup: a slot number is outside -1 .. (rows of C) - 1");
   RC.f.assign(f.N(), 0.);
   for (int i = 0; i < f.N(); i++) RC.f[i] = f[i];
   RC.nodeX.resize(nn); RC.nodeW.resize(nn); RC.normalSlot.resize(nn); RC.tangentSlot.resize(nn);
   for (int i = 0; i < nn; i++) { RC.nodeX[i] = x[i]; RC.nodeW[i] = w[i]; RC.normalSlot[i] = ns[i]; RC.tangentSlot[i] = ts[i]; }
   RC.g = p[0]; RC.none = p[1];
   RC.energyOld = 0;                     // u_0 = v_0 = 0
+  RC.generation = F.generation;
   RC.ready = true;
   return 0;
 }
@@ -401,7 +427,8 @@ long recordSetup(KN<double> *const &pf, KN<double> *const &px, KN<double> *const
 // kinetic + elastic of the previous call (0 after contactKernelRecordSetup: u_0 = v_0 = 0).
 long stepRecord(KN<double> *const &pv, KN<double> *const &pvOld, KN<double> *const &pu, KN<double> *const &pLam,
                 KN<double> *const &pMv, KN<double> *const &pBu, KN<double> *const &prec) {
-  if (P3.n == 0 || !RC.ready || F.weight.empty()) ExecError("contactKernelRecord: call contactKernelProducts, contactKernelDelassus and contactKernelRecordSetup first");
+  if (P3.n == 0 || !RC.ready || F.weight.empty() || !F.ready || RC.generation != F.generation)
+    ExecError("contactKernelRecord: call contactKernelProducts, contactKernelDelassus and contactKernelRecordSetup (after the last contactKernelFactorize) first");
   KN<double> &v = *pv, &vOld = *pvOld, &u = *pu, &Lam = *pLam, &Mv = *pMv, &Bu = *pBu, &rec = *prec;
   const int n = P3.n;
   if (v.N() != n || vOld.N() != n || u.N() != n || (int)RC.f.size() != n || Lam.N() != F.nc || rec.N() < 2)
@@ -492,6 +519,7 @@ struct Laws {
   std::vector<double> baseA, baseD;
   bool haveBase = false;
   long cuts = 0, halvings = 0, factorizations = 0, corrections = 0;
+  long generation = -1;                        // the factor (F.generation) these laws belong to
   bool ready = false;
 
   void setAugmentation(int j, double rj) {
@@ -546,9 +574,14 @@ long laws(KN<long> *const &pkind, KN<long> *const &ppartner, KN<double> *const &
   KN<double> &r = *pr, &p = *pp;
   const int nc = kind.N();
   if (partner.N() != nc || r.N() != nc || p.N() != 10) ExecError("contactKernelLaws: wrong argument sizes");
-  if ((int)F.Dw.size() != nc * nc) ExecError("contactKernelLaws: call contactKernelDelassus first (same slots)");
+  if (!F.ready || nc != F.nc || (int)F.Dw.size() != nc * nc)
+    ExecError("contactKernelLaws: call contactKernelFactorize and contactKernelDelassus first (same slots)");
+  for (int j = 0; j < nc; j++)
+    if ((kind[j] != 0 && kind[j] != 1) || (kind[j] == 1 && (partner[j] < -1 || partner[j] >= nc || (partner[j] >= 0 && kind[partner[j]] != 0))))
+      ExecError("contactKernelLaws: kind must be 0 or 1, partner a normal slot (or -1)");
   Q = Laws();
   Q.nc = nc;
+  Q.generation = F.generation;
   Q.cnu = p[0]; Q.g = p[1]; Q.mu = p[2]; Q.eps = p[3]; Q.penalty = p[4] != 0; Q.literal = p[5] != 0;
   Q.tol = p[6]; Q.maxit = (int)p[7]; Q.safeguards = p[8] != 0; Q.forceScale = p[9];
   Q.isNormal.resize(nc); Q.partner.resize(nc); Q.damping.resize(nc);
@@ -670,6 +703,8 @@ bool newtonSolve(const double *b, double *x) {
 
 long newton(KN<double> *const &pcFree, KN<double> *const &pc, KN<double> *const &pm, KN<double> *const &pinfo) {
   if (!Q.ready) ExecError("contactKernelNewton: call contactKernelLaws first");
+  if (!F.ready || Q.generation != F.generation || (int)F.Dw.size() != Q.nc * Q.nc)
+    ExecError("contactKernelNewton: the factor changed since contactKernelLaws; call contactKernelDelassus and contactKernelLaws again");
   const int nc = Q.nc, one = 1;
   KN<double> &cFreeK = *pcFree, &cK = *pc, &mK = *pm, &info = *pinfo;
   if (cFreeK.N() != nc || cK.N() != nc || mK.N() != nc) ExecError("contactKernelNewton: one value per slot expected");

@@ -85,13 +85,13 @@ struct Factor {
   std::vector<double> z;                // forward sweep of the last contactKernelFree
   std::vector<double> Dw;               // nc x nc, column-major
   bool haveForward = false;
-  bool ready = false;                   // a factorization succeeded and nothing since failed
   long generation = 0;                  // counts the calls of contactKernelFactorize
 
   // forget the factor and everything derived from it (the weights and Dw of
-  // contactKernelDelassus too: they belong to this factor's C)
+  // contactKernelDelassus too: they belong to this factor's C); L is then null, so a factor
+  // exists (L != null) only after a successful contactKernelFactorize
   void release() {
-    ready = false; haveForward = false;
+    haveForward = false;
     n = nc = nt = 0;
     Ltrail.clear(); slotOf.clear(); posOf.clear(); dofOf.clear(); valOf.clear();
     weight.clear(); z.clear(); Dw.clear();
@@ -129,7 +129,6 @@ long factorize(Matrice_Creuse<double> *const &pS, Matrice_Creuse<double> *const 
   F.generation++;
   const long status = factorizeOrFail(pS, pC);
   if (status != 0) F.release();
-  else F.ready = true;
   return status;
 }
 
@@ -213,7 +212,7 @@ long factorizeOrFail(Matrice_Creuse<double> *const &pS, Matrice_Creuse<double> *
 }
 
 void requireFactor(const char *who) {
-  if (!F.ready || !F.L || !F.work)
+  if (!F.L)
     ExecError(std::string("contactkernel: ") + who + " without a successful contactKernelFactorize");
 }
 
@@ -403,7 +402,7 @@ long recordSetup(KN<double> *const &pf, KN<double> *const &px, KN<double> *const
   KN<long> &ns = *pns, &ts = *pts;
   const int nn = x.N();
   if (w.N() != nn || ns.N() != nn || ts.N() != nn || p.N() != 2) ExecError("contactKernelRecordSetup: wrong argument sizes");
-  if (!F.ready || F.weight.empty()) ExecError("contactKernelRecordSetup: call contactKernelFactorize and contactKernelDelassus first");
+  if (!F.L || F.weight.empty()) ExecError("contactKernelRecordSetup: call contactKernelFactorize and contactKernelDelassus first");
   for (int i = 0; i < nn; i++)
     if (ns[i] < -1 || ns[i] >= F.nc || ts[i] < -1 || ts[i] >= F.nc)
       ExecError("contactKernelRecordSetup: a slot number is outside -1 .. (rows of C) - 1");
@@ -427,7 +426,7 @@ long recordSetup(KN<double> *const &pf, KN<double> *const &px, KN<double> *const
 // kinetic + elastic of the previous call (0 after contactKernelRecordSetup: u_0 = v_0 = 0).
 long stepRecord(KN<double> *const &pv, KN<double> *const &pvOld, KN<double> *const &pu, KN<double> *const &pLam,
                 KN<double> *const &pMv, KN<double> *const &pBu, KN<double> *const &prec) {
-  if (P3.n == 0 || !RC.ready || F.weight.empty() || !F.ready || RC.generation != F.generation)
+  if (P3.n == 0 || !RC.ready || !F.L || RC.generation != F.generation)
     ExecError("contactKernelRecord: call contactKernelProducts, contactKernelDelassus and contactKernelRecordSetup (after the last contactKernelFactorize) first");
   KN<double> &v = *pv, &vOld = *pvOld, &u = *pu, &Lam = *pLam, &Mv = *pMv, &Bu = *pBu, &rec = *prec;
   const int n = P3.n;
@@ -454,7 +453,7 @@ long stepRecord(KN<double> *const &pv, KN<double> *const &pvOld, KN<double> *con
   }
   // slot velocities C v, and the contact term (C' W Lambda)' v
   std::vector<double> cv(F.nc, 0.);
-  for (size_t e = 0; e < F.slotOf.size(); e++) cv[F.slotOf[e]] += F.valOf[e] * v[F.dofOf[e]];
+  for (size_t e = 0; e < F.slotOf.size(); e++) cv[F.slotOf[e]] += F.valOf[e] * pv0[F.dofOf[e]];
   double contact = 0;
   for (int j = 0; j < F.nc; j++) contact += F.weight[j] * Lam[j] * cv[j];
   if (rec.N() != 18) rec.resize(18);
@@ -574,7 +573,7 @@ long laws(KN<long> *const &pkind, KN<long> *const &ppartner, KN<double> *const &
   KN<double> &r = *pr, &p = *pp;
   const int nc = kind.N();
   if (partner.N() != nc || r.N() != nc || p.N() != 10) ExecError("contactKernelLaws: wrong argument sizes");
-  if (!F.ready || nc != F.nc || (int)F.Dw.size() != nc * nc)
+  if (!F.L || nc != F.nc || (int)F.Dw.size() != nc * nc)
     ExecError("contactKernelLaws: call contactKernelFactorize and contactKernelDelassus first (same slots)");
   for (int j = 0; j < nc; j++)
     if ((kind[j] != 0 && kind[j] != 1) || (kind[j] == 1 && (partner[j] < -1 || partner[j] >= nc || (partner[j] >= 0 && kind[partner[j]] != 0))))
@@ -703,7 +702,7 @@ bool newtonSolve(const double *b, double *x) {
 
 long newton(KN<double> *const &pcFree, KN<double> *const &pc, KN<double> *const &pm, KN<double> *const &pinfo) {
   if (!Q.ready) ExecError("contactKernelNewton: call contactKernelLaws first");
-  if (!F.ready || Q.generation != F.generation || (int)F.Dw.size() != Q.nc * Q.nc)
+  if (!F.L || Q.generation != F.generation || (int)F.Dw.size() != Q.nc * Q.nc)
     ExecError("contactKernelNewton: the factor changed since contactKernelLaws; call contactKernelDelassus and contactKernelLaws again");
   const int nc = Q.nc, one = 1;
   KN<double> &cFreeK = *pcFree, &cK = *pc, &mK = *pm, &info = *pinfo;

@@ -69,6 +69,8 @@ ensure_dependencies() { # ensure_dependencies [solve]
 export FF_LOADPATH="/usr/lib/freefem++;$here/edp/plugins/build"
 export OPENBLAS_NUM_THREADS="${OPENBLAS_NUM_THREADS:-1}"
 export MPLBACKEND=Agg
+# plots/suite.py: the readers of the outputs and the figure style, shared by plots/ and tests/
+export PYTHONPATH="$here/plots${PYTHONPATH:+:$PYTHONPATH}"
 export PYTHON
 FREEFEM=(FreeFem++-nw -ns -v 0)
 
@@ -119,8 +121,8 @@ case "$command" in
   main) ensure_dependencies; main_job ;;
   solve) ensure_dependencies solve; solve "$@" ;;
   test) ensure_dependencies; exec bash "$here/tests/run_tests.sh" "$@" ;;
-  bench) ensure_dependencies; exec bash "$here/bench/bench.sh" "$@" ;;
-  stability) ensure_dependencies; exec bash "$here/bench/stability.sh" "$@" ;;
+  bench) ensure_dependencies; exec bash "$here/tests/bench.sh" "$@" ;;
+  stability) ensure_dependencies; exec bash "$here/tests/stability.sh" "$@" ;;
   figures) ensure_dependencies; "$PYTHON" "$here/plots/figures.py" --results "${RESULTS_DIR:-$here/results}" --out "${RESULTS_DIR:-$here/results}/figures" "$@" ;;
   -h|--help|help) sed -n '2,11p' "$0" | sed 's/^# \{0,1\}//' ;;
   *) echo "run.sh: error: unknown command '$command' (commands: solve, test, figures, bench, stability, or none for the main job)" >&2; exit 2 ;;

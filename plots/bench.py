@@ -1,5 +1,5 @@
 #!/usr/bin/python3
-"""Tables and charts of the benchmark (bench/bench.sh, ./run.sh bench).
+"""Tables and charts of the benchmark (tests/bench.sh, ./run.sh bench).
 
 Reads the run folders bench/runs/NAME (summary.txt of edp/solve.edp, NAME.time with the
 wall seconds and peak memory of the process, NAME.error from edp/compare.edp) and writes

@@ -1,5 +1,5 @@
 #!/usr/bin/python3
-"""Tables of bench/stability.sh: one line per point, the cross-method agreement, the
+"""Tables of tests/stability.sh: one line per point, the cross-method agreement, the
 hopeless settings and a summary, from the records runs/SWEEP/ID.rec and the summary.txt
 of each converged run.
 
@@ -181,7 +181,7 @@ def build_rows(results):
 def write_table(path, rows, title):
     with open(path, "w") as f:
         f.write(f"# {title}\n")
-        f.write("# written by bench/stability_tables.py from runs/*/*.rec; mode: see its docstring;\n")
+        f.write("# written by tests/stability_tables.py from runs/*/*.rec; mode: see its docstring;\n")
         f.write("# iter_mean = iterations_total/steps, iter_max = iterations_max (converged runs);\n")
         f.write("# fail_*: the failing step, its iteration count and residual; half_residual: the residual\n")
         f.write("# of the same step with -maxit cap/2; period: of an exact cycle (0 none); wall_s: seconds\n")
@@ -300,7 +300,7 @@ def command_line(row):
 
 
 def write_summary(path, rows, pairs, hopeless_checks, results):
-    lines = ["# bench/stability.sh summary (bench/stability_tables.py)"]
+    lines = ["# tests/stability.sh summary (tests/stability_tables.py)"]
     sweeps = sorted({r["sweep"] for r in rows})
     lines.append(f"points {len(rows)}")
     lines.append(f"converged {sum(r['mode'] == 'ok' for r in rows)}")

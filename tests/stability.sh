@@ -4,7 +4,7 @@
 # and maps of docs/stability.md (the draft README section "When methods fail").
 #
 # Usage (from anywhere; the environment of run.sh is set here when missing):
-#   bench/stability.sh [--quick] [--jobs N]
+#   tests/stability.sh [--quick] [--jobs N]
 #     --quick    a few points per sweep (under a minute on 2 cores; the tests call it)
 #     --jobs N   solves run in parallel (default 2)
 #     --list     print the points (SWEEP ID TIMEOUT OPTIONS...) and exit
@@ -27,7 +27,7 @@
 #                        its outputs in the agreement sweep, for tests/check_results.py)
 #   runs/SWEEP/ID.rec    one record per point: options, exit code, wall time, message,
 #                        the probes of a failure at the iteration cap
-#   SWEEP.txt, agreement.txt, hopeless.txt, summary.txt   (bench/stability_tables.py)
+#   SWEEP.txt, agreement.txt, hopeless.txt, summary.txt   (tests/stability_tables.py)
 #   maps/stability_*.png (plots/stability.py)
 #   timing.txt           wall time of the sweeps and of the whole script
 # A failure at the iteration cap is probed by re-running the point with -maxit cap-1 ...
@@ -292,11 +292,11 @@ echo "stability: $total points, $jobs at a time, results in $out"
 xargs -P "$jobs" -L 1 bash "$0" --point < "$out/points.list"
 sweeps_end=$(date +%s.%N)
 status=0
-"$PYTHON" bench/stability_tables.py --results "$out" || status=1
+"$PYTHON" tests/stability_tables.py --results "$out" || status=1
 "$PYTHON" plots/stability.py --results "$out" --out "$out/maps" || status=1
 end=$(date +%s.%N)
 {
-  echo "# wall time of bench/stability.sh (seconds)"
+  echo "# wall time of tests/stability.sh (seconds)"
   echo "# key value"
   echo "mode $([ "$quick" = 1 ] && echo quick || echo full)"
   echo "jobs $jobs"

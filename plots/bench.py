@@ -1,8 +1,9 @@
 #!/usr/bin/python3
 """Tables and charts of the benchmark (tests/bench.sh, ./run.sh bench).
 
-Reads the run folders bench/runs/NAME (summary.txt of edp/solve.edp, NAME.time with the
-wall seconds and peak memory of the process, NAME.error from edp/compare.edp) and writes
+Reads the run folders DIR/runs/NAME that tests/bench.sh makes (summary.txt of edp/solve.edp,
+NAME.time with the wall seconds and peak memory of the process, NAME.error from
+edp/compare.edp) and writes into DIR
   steps.txt, iterations.txt, work_precision.txt   (plain text, '#' header naming the columns)
   bench_cost_per_step.png, bench_work_precision.png, bench_iterations.png
 Usage: bench.py --bench DIR --reference RUN_DIR
@@ -11,17 +12,10 @@ import argparse
 import math
 import os
 import re
-import sys
 
-import matplotlib
+import suite
 
-matplotlib.use("Agg")
-import matplotlib.pyplot as plt  # noqa: E402
-
-sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from figures import STYLE, save  # noqa: E402
-from tables import read_summary, write_table  # noqa: E402
-
+plt = suite.pyplot()
 NAN = float("nan")
 
 
@@ -29,7 +23,7 @@ def run_record(bench, name):
     """What one run measured: its summary (empty if it failed), wall, peak memory, error."""
     folder = os.path.join(bench, "runs", name)
     record = {"name": name, "converged": os.path.isfile(os.path.join(folder, "summary.txt"))}
-    record["summary"] = read_summary(folder) if record["converged"] else {}
+    record["summary"] = suite.read_summary(folder) if record["converged"] else {}
     wall, peak = NAN, NAN
     if os.path.isfile(folder + ".time"):
         words = open(folder + ".time").read().split()
@@ -47,8 +41,8 @@ def run_record(bench, name):
 
 def value(record, key):
     try:
-        return float(record["summary"][key])
-    except (KeyError, ValueError):
+        return float(record["summary"].get(key, NAN))
+    except ValueError:
         return NAN
 
 
@@ -81,12 +75,12 @@ def steps_table(bench):
                "time_condensation time_backsubstitution time_backsubstitution_umfpack time_step_median "
                "step_over_floor step_over_umfpack_floor iterations_mean "
                "iterations_max peak_memory_MB").split()
-    write_table(os.path.join(bench, "steps.txt"),
-                ["cost per time step: time_step_median (CPU s) against the floor time_backsubstitution (one",
-                 "back-substitution with the kernel's Cholesky factor of S, median of 21, same run) and against",
-                 "time_backsubstitution_umfpack (one back-substitution with FreeFEM's default UMFPACK, median of 5,",
-                 "same run; nan when not measured); setup times and wall in wall seconds; peak memory of the",
-                 "whole FreeFEM process"], columns, rows)
+    suite.write_table(os.path.join(bench, "steps.txt"),
+                      ["cost per time step: time_step_median (CPU s) against the floor time_backsubstitution (one",
+                       "back-substitution with the kernel's Cholesky factor of S, median of 21, same run) and against",
+                       "time_backsubstitution_umfpack (one back-substitution with FreeFEM's default UMFPACK, median of 5,",
+                       "same run; nan when not measured); setup times and wall in wall seconds; peak memory of the",
+                       "whole FreeFEM process"], columns, rows)
     return columns, rows
 
 
@@ -101,9 +95,9 @@ def iterations_table(bench):
                      value(r, "time_loop"), int(value(r, "augmentation_halvings")) if r["converged"] else -1,
                      int(value(r, "line_search_cuts")) if r["converged"] else -1])
     columns = "mode r converged iterations_mean iterations_max time_loop augmentation_halvings line_search_cuts".split()
-    write_table(os.path.join(bench, "iterations.txt"),
-                ["iterations per step against the augmentation factor r (r_j = r/(Dw)_jj for Newton, r/(D0)_jj",
-                 "for the fixed point), paper mesh; the fixed point on 5 steps (T = 0.05)"], columns, rows)
+    suite.write_table(os.path.join(bench, "iterations.txt"),
+                      ["iterations per step against the augmentation factor r (r_j = r/(Dw)_jj for Newton, r/(D0)_jj",
+                       "for the fixed point), paper mesh; the fixed point on 5 steps (T = 0.05)"], columns, rows)
     return columns, rows
 
 
@@ -116,10 +110,10 @@ def work_precision_table(bench, reference):
         rel = e.get("error_L2", NAN) / e["norm_L2"] if e.get("norm_L2") else NAN
         rows.append([name, family, int(r["converged"]), r["wall"], e.get("error_L2", NAN), rel, e.get("error_gamma3", NAN)])
     columns = "run family converged wall error_L2 relative_error_L2 error_gamma3".split()
-    write_table(os.path.join(bench, "work_precision.txt"),
-                [f"error at T against the reference {os.path.basename(reference)} (edp/compare.edp:",
-                 "||v - v_ref||_L2(Omega) with the consistent mass matrix of the reference mesh, and max |dv_nu| on",
-                 "Gamma3), against the wall seconds of the whole process"], columns, rows)
+    suite.write_table(os.path.join(bench, "work_precision.txt"),
+                      [f"error at T against the reference {os.path.basename(reference)} (edp/compare.edp:",
+                       "||v - v_ref||_L2(Omega) with the consistent mass matrix of the reference mesh, and max |dv_nu| on",
+                       "Gamma3), against the wall seconds of the whole process"], columns, rows)
     return columns, rows
 
 
@@ -165,7 +159,7 @@ def chart_cost_per_step(bench, columns, rows):
     right.set_ylabel("wall seconds, once per run")
     right.set_title("setup costs (Newton, original)")
     right.legend(fontsize=7)
-    return save(fig, bench, "bench_cost_per_step")
+    return suite.save(fig, bench, "bench_cost_per_step")
 
 
 def parameter_order(name):
@@ -198,7 +192,7 @@ def chart_work_precision(bench, columns, rows):
     ax.set_ylabel(r"$\|v - v_{ref}\|_{L^2(\Omega)} / \|v_{ref}\|$ at T")
     ax.set_title("work and precision")
     ax.legend(fontsize=7)
-    return save(fig, bench, "bench_work_precision")
+    return suite.save(fig, bench, "bench_work_precision")
 
 
 def chart_iterations(bench, columns, rows):
@@ -218,7 +212,7 @@ def chart_iterations(bench, columns, rows):
     ax.set_ylabel("iterations per time step")
     ax.set_title("Newton and fixed point against r (dotted: did not converge)")
     ax.legend(fontsize=7)
-    return save(fig, bench, "bench_iterations")
+    return suite.save(fig, bench, "bench_iterations")
 
 
 def main():
@@ -226,7 +220,6 @@ def main():
     parser.add_argument("--bench", required=True)
     parser.add_argument("--reference", required=True)
     args = parser.parse_args()
-    plt.rcParams.update(STYLE)
     columns, rows = steps_table(args.bench)
     c = {name: i for i, name in enumerate(columns)}
     print(f"  {'run':40s} {'dofs':>7s} {'floor ms':>9s} {'umfpack ms':>10s} {'step ms':>9s} {'ratio':>6s} {'vs umf':>6s} "
@@ -248,4 +241,4 @@ def main():
 
 
 if __name__ == "__main__":
-    main()
+    suite.run_tool("bench.py", main)

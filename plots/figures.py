@@ -10,40 +10,14 @@ fig5 also reads DIR/eps-study/eps_study.txt, written by plots/tables.py.
 """
 import argparse
 import os
-import sys
 
-import matplotlib
+import matplotlib.tri as mtri
+import numpy as np
 
-matplotlib.use("Agg")
-import matplotlib.pyplot as plt  # noqa: E402
-import matplotlib.tri as mtri  # noqa: E402
-import numpy as np  # noqa: E402
+import suite
 
-STYLE = {
-    "figure.figsize": (11, 4),
-    "figure.dpi": 100,
-    "axes.grid": True,
-    "grid.alpha": 0.3,
-    "font.size": 9,
-    "lines.linewidth": 1.2,
-    "lines.markersize": 3,
-}
+plt = suite.pyplot()
 PROBLEMS = ("original", "penalty")
-
-
-def read_table(path):
-    """Parameters (# key value), columns (last # line) and data of an output file."""
-    params, columns = {}, None
-    with open(path) as f:
-        for line in f:
-            if not line.startswith("#"):
-                break
-            words = line[1:].split()
-            if len(words) == 2:
-                params[words[0]] = words[1]
-            columns = words
-    data = np.loadtxt(path, comments="#", ndmin=2)
-    return params, {name: data[:, i] for i, name in enumerate(columns)}
 
 
 def problem_label(params):
@@ -53,37 +27,14 @@ def problem_label(params):
     return f"{params.get('problem', '?')} problem"
 
 
-def read_msh22_mesh(path):
-    """Nodes (x, y, in file order) and triangles (0-based indices into the nodes) of a gmsh MSH 2.2 file."""
-    with open(path) as f:
-        lines = f.read().split("\n")
-    if "$Nodes" not in lines or "$Elements" not in lines:
-        sys.exit(f"error: {path} is not a gmsh MSH 2.2 file")
-    start = lines.index("$Nodes")
-    count = int(lines[start + 1])
-    ids, xy = {}, np.empty((count, 2))
-    for i, line in enumerate(lines[start + 2:start + 2 + count]):
-        words = line.split()
-        ids[int(words[0])] = i
-        xy[i] = float(words[1]), float(words[2])
-    start = lines.index("$Elements")
-    count = int(lines[start + 1])
-    triangles = []
-    for line in lines[start + 2:start + 2 + count]:
-        words = line.split()
-        if words[1] == "2":                      # element type 2: 3-node triangle
-            ntags = int(words[2])
-            triangles.append([ids[int(w)] for w in words[3 + ntags:6 + ntags]])
-    return xy, np.array(triangles, dtype=int)
-
-
 def fig2_deformed(results, out):
     """Fig. 2: deformed configuration at T, true scale, with the contact line y = 0."""
     fig, axes = plt.subplots(1, 2, sharey=True)
     for ax, problem in zip(axes, PROBLEMS):
         folder = os.path.join(results, f"paper-{problem}")
-        p, f = read_table(os.path.join(folder, "fields.txt"))
-        _, triangles = read_msh22_mesh(os.path.join(folder, "mesh.msh"))
+        f = suite.read_table(os.path.join(folder, "fields.txt"))
+        p = f.params
+        triangles = suite.read_msh22(os.path.join(folder, "mesh.msh")).triangles
         tri = mtri.Triangulation(f["x"] + f["u_x"], f["y"] + f["u_y"], triangles)
         ax.triplot(tri, color="0.3", linewidth=0.3)
         ax.axhline(0.0, color="tab:red", linewidth=1.0, label="undeformed contact line y = 0")
@@ -92,14 +43,15 @@ def fig2_deformed(results, out):
         ax.set_xlabel("x [m]")
         ax.legend(loc="upper right")
     axes[0].set_ylabel("y [m]")
-    return save(fig, out, "fig2_deformed")
+    return suite.save(fig, out, "fig2_deformed")
 
 
 def fig3_contact_reactions(results, out):
     """Fig. 3: normal pressure p_nu = p(v_nu) + lambda_nu and tangential stress on Gamma3 at T."""
     fig, axes = plt.subplots(1, 2, sharey=True)
     for ax, problem in zip(axes, PROBLEMS):
-        p, c = read_table(os.path.join(results, f"paper-{problem}", "contact.txt"))
+        c = suite.read_table(os.path.join(results, f"paper-{problem}", "contact.txt"))
+        p = c.params
         ax.plot(c["x"], c["p_nu"], "o-", label=r"$p_\nu = p(v_\nu) + \lambda_\nu$")
         ax.plot(c["x"], c["p_nu"] - c["lambda_nu"], "--", label=r"damped response $p(v_\nu)$")
         ax.plot(c["x"], c["lambda_nu"], ":", label=r"multiplier $\lambda_\nu$")
@@ -110,7 +62,7 @@ def fig3_contact_reactions(results, out):
         ax.set_xlabel("x [m]")
         ax.legend(loc="center right", fontsize=8)   # the band between p(g) and lambda_nu on CD is empty
     axes[0].set_ylabel("stress [GPa]")
-    return save(fig, out, "fig3_contact_reactions")
+    return suite.save(fig, out, "fig3_contact_reactions")
 
 
 def zone_edges(c):
@@ -125,8 +77,9 @@ def fig4_velocities(results, out):
     """Fig. 4: normal and tangential velocity on Gamma3 at T, with the bound g and the zones."""
     fig, axes = plt.subplots(1, 2, sharey=True)
     for ax, problem in zip(axes, PROBLEMS):
-        p, c = read_table(os.path.join(results, f"paper-{problem}", "contact.txt"))
-        g = float(p["g"])
+        c = suite.read_table(os.path.join(results, f"paper-{problem}", "contact.txt"))
+        p = c.params
+        g = p.real("g")
         ax.plot(c["x"], c["v_nu"], "o-", label=r"$v_\nu$")
         ax.plot(c["x"], c["v_tau"], "s-", label=r"$v_\tau$")
         ax.axhline(g, color="k", linewidth=0.8, linestyle="--", label=f"bound g = {g}")
@@ -139,13 +92,13 @@ def fig4_velocities(results, out):
         ax.set_xlabel("x [m]")
         ax.legend(loc="center right")          # CD: v_nu = g, v_tau = 0 leave this corner empty
     axes[0].set_ylabel("velocity [m/s]")
-    return save(fig, out, "fig4_velocities")
+    return suite.save(fig, out, "fig4_velocities")
 
 
 def require(path, producer):
-    """Exit with a message naming the missing input and what writes it."""
+    """The path, or an InputError naming the missing input and what writes it."""
     if not os.path.isfile(path):
-        sys.exit(f"figures.py: error: missing {path} (written by {producer})")
+        raise suite.InputError(f"missing {path} (written by {producer})")
     return path
 
 
@@ -156,32 +109,37 @@ def eps_study_runs(results):
     for name in sorted(os.listdir(parent)) if os.path.isdir(parent) else []:
         path = os.path.join(parent, name, "contact.txt")
         if os.path.isfile(path):
-            runs[float(read_table(path)[0]["eps"])] = os.path.join(parent, name)
+            runs[suite.read_table(path).params.real("eps")] = os.path.join(parent, name)
     return runs
 
 
 def fig5_penalty_convergence(results, out, shown=(1e-1, 1e-2, 1e-3, 1e-5)):
     """Fig. 5: v_nu on Gamma3 at T for several eps and the original problem (left);
     ||v_eps - v||_L2(Omega) at T against eps, from eps_study.txt, with the fitted tail slope (right)."""
-    study, e = read_table(require(os.path.join(results, "eps-study", "eps_study.txt"), "plots/tables.py"))
+    e = suite.read_table(require(os.path.join(results, "eps-study", "eps_study.txt"), "plots/tables.py"))
+    study = e.params
     runs = eps_study_runs(results)
     fig, (left, right) = plt.subplots(1, 2)
     colors = plt.cm.viridis(np.linspace(0.0, 0.85, len(shown)))
     for eps, color in zip(shown, colors):
         if eps in runs:
-            _, c = read_table(os.path.join(runs[eps], "contact.txt"))
+            c = suite.read_table(os.path.join(runs[eps], "contact.txt"))
             left.plot(c["x"], c["v_nu"], "o-", color=color, markersize=2, label=f"penalty, $\\varepsilon$ = {eps:g}")
-    p, c = read_table(require(os.path.join(results, "paper-original", "contact.txt"), "./run.sh"))
+    c = suite.read_table(require(os.path.join(results, "paper-original", "contact.txt"), "./run.sh"))
+    p = c.params
     left.plot(c["x"], c["v_nu"], "k-", linewidth=2.5, zorder=0, label="original problem")
-    g = float(p["g"])
+    g = p.real("g")
     left.axhline(g, color="tab:red", linewidth=0.8, linestyle="--", label=f"bound g = {g:g}")
     left.set_title(f"normal velocity on $\\Gamma_3$ at T = {p['T']}")
     left.set_xlabel("x [m]")
     left.set_ylabel(r"$v_\nu$ [m/s]")
     left.legend(loc="upper left", fontsize=7)
     right.loglog(e["eps"], e["error_L2"], "o", markersize=6, label="penalty runs")
-    tail = np.array([float(t) for t in study["tail_eps"].split(",")])
-    slope = float(study["slope_tail"])
+    try:
+        tail = np.array([float(t) for t in study["tail_eps"].split(",")])
+    except ValueError:
+        raise suite.InputError(f"{e.path}: tail_eps = {study['tail_eps']!r} is not a list of numbers") from None
+    slope = study.real("slope_tail")
     on_tail = np.isin(e["eps"], tail)
     intercept = np.mean(np.log(e["error_L2"][on_tail]) - slope * np.log(e["eps"][on_tail]))
     span = np.array([tail.min(), tail.max()])
@@ -192,51 +150,40 @@ def fig5_penalty_convergence(results, out, shown=(1e-1, 1e-2, 1e-3, 1e-5)):
     right.set_xlabel(r"penalty parameter $\varepsilon$")
     right.set_ylabel(r"$\|v_\varepsilon - v\|_{L^2(\Omega)}$, consistent mass matrix [m$^2$/s]")
     right.legend(loc="lower right")
-    return save(fig, out, "fig5_penalty_convergence")
+    return suite.save(fig, out, "fig5_penalty_convergence")
 
 
 def applied_normal_load(folder, params, t):
     """The total traction pushing toward the foundation, load t |Gamma2| (traction . n), where
     the scene names its traction direction and contact normal; None when it does not."""
-    scene, length = {}, 0.0
     path = os.path.join(folder, "scene.scene")
     if not os.path.isfile(path):
         return None
-    with open(path) as f:
-        for line in f:
-            words = line.split()
-            if len(words) == 3 and words[0] in ("traction", "contact_normal"):
-                scene[words[0]] = np.array([float(words[1]), float(words[2])])
-    if len(scene) < 2:
+    data = suite.read_scene(path).data
+    if "traction" not in data or "contact_normal" not in data:
         return None
-    xy = {}
-    with open(os.path.join(folder, "mesh.msh")) as f:
-        text = f.read().split("\n")
-    start = text.index("$Nodes")
-    for line in text[start + 2:start + 2 + int(text[start + 1])]:
-        words = line.split()
-        xy[words[0]] = np.array([float(words[1]), float(words[2])])
-    start = text.index("$Elements")
-    for line in text[start + 2:start + 2 + int(text[start + 1])]:
-        words = line.split()
-        if words[1] == "1" and words[3] == "3":          # 2-node line, first tag = physical curve 3 (Gamma2)
-            ntags = int(words[2])
-            a, b = words[3 + ntags:5 + ntags]
-            length += float(np.hypot(*(xy[a] - xy[b])))
-    normal = scene["contact_normal"] / np.hypot(*scene["contact_normal"])
-    return float(params["load"]) * t * length * float(scene["traction"] @ normal)
+    try:
+        traction, normal = (np.array([float(w) for w in data[key][-1]]) for key in ("traction", "contact_normal"))
+    except ValueError:
+        raise suite.InputError(f"{path}: traction and contact_normal need numbers") from None
+    mesh = suite.read_msh22(os.path.join(folder, "mesh.msh"))
+    edges = mesh.lines[mesh.line_labels == suite.labels()["GammaTraction"]]
+    d = mesh.xy[edges[:, 0]] - mesh.xy[edges[:, 1]]
+    length = float(np.sum(np.hypot(d[:, 0], d[:, 1])))
+    return params.real("load") * t * length * float(traction @ (normal / np.hypot(*normal)))
 
 
 def contact_forces_history(results, out):
     """Total contact forces on Gamma3 against t: sum_i w_i p_nu,i and sum_i w_i lambda_tau,i."""
     fig, (left, right) = plt.subplots(1, 2)
     for problem, style in zip(PROBLEMS, ("-", "--")):
-        p, h = read_table(os.path.join(results, f"paper-{problem}", "contact_history.txt"))
+        h = suite.read_table(os.path.join(results, f"paper-{problem}", "contact_history.txt"))
+        p = h.params
         left.plot(h["t"], h["normal_force"], style, label=problem_label(p))
         right.plot(h["t"], h["tangential_force"], style, label=problem_label(p))
     folder = os.path.join(results, "paper-original")
-    p, h = read_table(os.path.join(folder, "contact_history.txt"))
-    applied = applied_normal_load(folder, p, h["t"])
+    h = suite.read_table(os.path.join(folder, "contact_history.txt"))
+    applied = applied_normal_load(folder, h.params, h["t"])
     if applied is not None:
         left.plot(h["t"], applied, "k:", linewidth=0.8, label=r"applied traction $\int_{\Gamma_2} f_2 \cdot \nu_{\Gamma_3}$")
     left.set_title(r"normal force $\sum_i w_i\, p_{\nu,i}$ on $\Gamma_3$")
@@ -245,7 +192,7 @@ def contact_forces_history(results, out):
         ax.set_xlabel("t [s]")
         ax.set_ylabel("force per unit thickness [GPa m]")
         ax.legend()
-    return save(fig, out, "contact_forces_history")
+    return suite.save(fig, out, "contact_forces_history")
 
 
 ENERGY_TERMS = (("kinetic", "kinetic", False), ("elastic", "elastic", False),
@@ -256,17 +203,17 @@ ENERGY_TERMS = (("kinetic", "kinetic", False), ("elastic", "elastic", False),
 
 
 def energy_history(results, out):
-    """Discrete energy balance (DESIGN.md section 5): the energies and the cumulative
+    """Discrete energy balance (docs/design.md, "Energy identity"): the energies and the cumulative
     dissipations and work against t (left, log scale), the per-step residual (right)."""
     fig, (left, right) = plt.subplots(1, 2)
     colors = plt.rcParams["axes.prop_cycle"].by_key()["color"]
     for problem, style in zip(PROBLEMS, ("-", "--")):
-        p, h = read_table(os.path.join(results, f"paper-{problem}", "history.txt"))
+        h = suite.read_table(os.path.join(results, f"paper-{problem}", "history.txt"))
         for (column, label, cumulative), color in zip(ENERGY_TERMS, colors):
             values = np.cumsum(h[column]) if cumulative else h[column]
             left.semilogy(h["t"], values, style, color=color, label=label if problem == "original" else None)
         residual = np.where(h["energy_residual"] > 0, h["energy_residual"], np.nan)   # log scale: 0 is not drawn
-        right.semilogy(h["t"], residual, style, marker="o", markersize=2, label=problem_label(p))
+        right.semilogy(h["t"], residual, style, marker="o", markersize=2, label=problem_label(h.params))
     left.plot([], [], "k-", label="original problem")
     left.plot([], [], "k--", label="penalty problem")
     left.set_title("energies at $t_n$ and cumulative dissipations and work")
@@ -277,7 +224,7 @@ def energy_history(results, out):
     right.set_xlabel("t [s]")
     right.set_ylabel("|balance| / largest term")
     right.legend()
-    return save(fig, out, "energy_history")
+    return suite.save(fig, out, "energy_history")
 
 
 def zone_boundaries(results, out):
@@ -285,8 +232,8 @@ def zone_boundaries(results, out):
     against t (left), and the zone counts AB, BC, CD (right); nan (not drawn) where absent."""
     fig, (left, right) = plt.subplots(1, 2)
     for problem, style in zip(PROBLEMS, ({"linestyle": "-"}, {"linestyle": "none", "marker": "o", "markersize": 2.5})):
-        p, h = read_table(os.path.join(results, f"paper-{problem}", "contact_history.txt"))
-        name = problem_label(p)
+        h = suite.read_table(os.path.join(results, f"paper-{problem}", "contact_history.txt"))
+        name = problem_label(h.params)
         left.plot(h["t"], h["x_B"], color="tab:orange", label=f"$x_B$, {name}", **style)
         left.plot(h["t"], h["x_C"], color="tab:purple", label=f"$x_C$, {name}", **style)
         counts = {"AB (damped, slip)": h["zone_damped_slip"], "BC (at the bound, slip)": h["zone_bound_slip"],
@@ -301,16 +248,7 @@ def zone_boundaries(results, out):
     right.set_xlabel("t [s]")
     right.set_ylabel("nodes")
     right.legend(fontsize=7)
-    return save(fig, out, "zone_boundaries")
-
-
-def save(fig, out, name):
-    os.makedirs(out, exist_ok=True)
-    path = os.path.join(out, name + ".png")
-    fig.tight_layout()
-    fig.savefig(path)
-    plt.close(fig)
-    return path
+    return suite.save(fig, out, "zone_boundaries")
 
 
 FIGURES = {"fig2": fig2_deformed, "fig3": fig3_contact_reactions, "fig4": fig4_velocities,
@@ -326,14 +264,13 @@ def main():
     args = parser.parse_args()
     unknown = [n for n in args.names if n not in FIGURES]
     if unknown:
-        sys.exit(f"figures.py: error: unknown figure {unknown[0]}; figures: {' '.join(FIGURES)}")
+        raise suite.InputError(f"unknown figure {unknown[0]}; figures: {' '.join(FIGURES)}")
     for problem in PROBLEMS:
         if not os.path.isfile(os.path.join(args.results, f"paper-{problem}", "summary.txt")):
-            sys.exit(f"figures.py: error: no results in {args.results}/paper-{problem}: run ./run.sh first")
-    plt.rcParams.update(STYLE)
+            raise suite.InputError(f"no results in {args.results}/paper-{problem}: run ./run.sh first")
     for name in args.names or FIGURES:
         print(f"figures.py: {name} -> {FIGURES[name](args.results, args.out)}")
 
 
 if __name__ == "__main__":
-    main()
+    suite.run_tool("figures.py", main)

@@ -12,14 +12,12 @@ import argparse
 import os
 import sys
 
-import matplotlib
+import matplotlib.patches as mpatches
 
-matplotlib.use("Agg")
-import matplotlib.patches as mpatches  # noqa: E402
-import matplotlib.pyplot as plt  # noqa: E402
-import numpy as np  # noqa: E402
+import suite
 
-STYLE = {"figure.dpi": 100, "font.size": 8, "axes.titlesize": 9, "savefig.bbox": "tight"}
+# suite.STYLE, with smaller text, no grid over the cells, and the legend outside the axes kept
+plt = suite.pyplot({"font.size": 8, "axes.titlesize": 9, "axes.grid": False, "savefig.bbox": "tight"})
 MODE_COLORS = {
     "ok": "#7fc97f", "slow": "#ffff99", "stalled": "#fdc086", "floor": "#80b1d3", "stuck": "#bebada",
     "cycling": "#e41a1c", "diverging": "#984ea3", "cap": "#cccccc", "nonfinite": "#222222",
@@ -34,23 +32,9 @@ METHOD_ORDER = ["orig-newton-on", "orig-newton-off", "orig-fixedpoint", "pen-new
                 "pen-newton-compliant-off", "pen-newton-literal-on", "pen-newton-literal-off", "pen-fixedpoint"]
 
 
-def read_table(path):
-    """Column name -> array of strings (the last # line names the columns)."""
-    columns = None
-    with open(path) as f:
-        for line in f:
-            if not line.startswith("#"):
-                break
-            columns = line[1:].split()
-    data = np.loadtxt(path, comments="#", dtype=str, ndmin=2)
-    if data.size == 0:
-        data = np.empty((0, len(columns)), dtype=str)
-    return {name: data[:, i] for i, name in enumerate(columns)}
-
-
-def rows_of(table):
-    names = list(table)
-    return [dict(zip(names, values)) for values in zip(*table.values())]
+def rows_of(results, sweep):
+    """The rows of results/SWEEP.txt, one dict column name -> text per run."""
+    return suite.read_table(os.path.join(results, f"{sweep}.txt"), dtype=str).rows()
 
 
 def cell_text(row):
@@ -105,14 +89,11 @@ def methods_present(rows):
 
 
 def save(fig, out, name):
-    path = os.path.join(out, f"stability_{name}.png")
-    fig.savefig(path)
-    plt.close(fig)
-    print(f"stability.py: wrote {path}")
+    print(f"stability.py: wrote {suite.save(fig, out, 'stability_' + name, tight_layout=False)}")
 
 
 def method_map(results, out, sweep, xkey, xlabel, title, name):
-    rows = rows_of(read_table(os.path.join(results, f"{sweep}.txt")))
+    rows = rows_of(results, sweep)
     methods = methods_present(rows)
     ncol = len({r[xkey] for r in rows})
     fig, ax = plt.subplots(figsize=(max(5, 0.45 * ncol + 2.5), 0.42 * len(methods) + 1.6))
@@ -155,7 +136,7 @@ def map_k_method(results, out):
 
 def map_k_mu(results, out):
     """Time step x friction, one panel per Newton method (reduced mesh)."""
-    rows = rows_of(read_table(os.path.join(results, "kmu.txt")))
+    rows = rows_of(results, "kmu")
     methods = methods_present(rows)
     fig, axes = plt.subplots(1, len(methods), figsize=(4.2 * len(methods), 3.4), squeeze=False)
     modes = set()
@@ -171,7 +152,7 @@ def map_k_mu(results, out):
 
 def map_mesh_r(results, out):
     """Mesh x augmentation r, Newton with and without safeguards (T = 0.05, 5 steps)."""
-    rows = rows_of(read_table(os.path.join(results, "mesh.txt")))
+    rows = rows_of(results, "mesh")
     for r in rows:
         r["mesh"] = f"{r['nx']}x{r['ny']}"
     methods = methods_present(rows)
@@ -189,7 +170,7 @@ def map_mesh_r(results, out):
 
 def map_fixedpoint_r_k(results, out):
     """Fixed point: augmentation x time step (reduced mesh, T = 0.4, maxit 20000)."""
-    rows = rows_of(read_table(os.path.join(results, "fixedpoint.txt")))
+    rows = rows_of(results, "fixedpoint")
     fig, ax = plt.subplots(figsize=(5, 3.2))
     xs = sorted({r["dt"] for r in rows}, key=lambda v: -float(v))
     modes = heatmap(ax, rows, "dt", "r", "time step k", "augmentation factor r", xorder=xs, xfmt=number, yfmt=number)
@@ -200,7 +181,7 @@ def map_fixedpoint_r_k(results, out):
 
 def map_paper_box(results, out):
     """The defaults on the paper mesh 66x33 over the paper box (maxit 50 as shipped)."""
-    rows = rows_of(read_table(os.path.join(results, "box.txt")))
+    rows = rows_of(results, "box")
     for r in rows:
         r["problem_eps"] = "original" if r["problem"] == "original" else f"penalty eps={float(r['eps']):g}"
         r["mu_load"] = f"mu={float(r['mu']):g} load={float(r['load']):g}"
@@ -249,7 +230,6 @@ def main():
     if unknown:
         print(f"stability.py: error: unknown map {unknown[0]} (maps: {' '.join(MAPS)})", file=sys.stderr)
         sys.exit(2)
-    plt.rcParams.update(STYLE)
     os.makedirs(args.out, exist_ok=True)
     for name in args.names or MAPS:
         if not os.path.isfile(os.path.join(args.results, f"{SOURCES[name]}.txt")):
@@ -259,4 +239,4 @@ def main():
 
 
 if __name__ == "__main__":
-    main()
+    suite.run_tool("stability.py", main)

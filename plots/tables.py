@@ -29,11 +29,10 @@ import argparse
 import math
 import os
 import re
-import sys
 
 import numpy as np
 
-from figures import read_msh22_mesh, read_table
+import suite
 
 PAPER_AB, PAPER_BC = 15, 29     # paper section 5: zone AB 15 nodes, zone BC 29 nodes
 TAIL = 4                        # the slope is fitted on the TAIL smallest eps
@@ -41,22 +40,7 @@ COORDINATE_TOL = 1e-12          # node coordinates of two runs must agree to thi
 
 
 def fail(message):
-    sys.exit(f"tables.py: error: {message}")
-
-
-def read_summary(folder):
-    """The 'key value' lines of summary.txt (a value may contain spaces)."""
-    path = os.path.join(folder, "summary.txt")
-    if not os.path.isfile(path):
-        fail(f"missing {path}")
-    summary = {}
-    with open(path) as f:
-        for line in f:
-            if line.startswith("#") or not line.strip():
-                continue
-            key, _, value = line.strip().partition(" ")
-            summary[key] = value.strip()
-    return summary
+    raise suite.InputError(message)
 
 
 def consistent_mass_norm2(xy, triangles, values):
@@ -69,17 +53,6 @@ def consistent_mass_norm2(xy, triangles, values):
         local = e[triangles]                     # (triangles, 3)
         total += float(np.sum(area / 12.0 * (np.sum(local**2, axis=1) + np.sum(local, axis=1)**2)))
     return total
-
-
-def write_table(path, comments, columns, rows):
-    """A plain text table: '#' comment lines, the '#' line naming the columns, then rows
-    (floats in full precision)."""
-    with open(path, "w") as f:
-        for line in comments:
-            f.write(f"# {line}\n")
-        f.write("# " + " ".join(columns) + "\n")
-        for row in rows:
-            f.write(" ".join(repr(v) if isinstance(v, float) else str(v) for v in row) + "\n")
 
 
 def run_folders(results):
@@ -117,18 +90,18 @@ def mesh_label(summary):
 def zones_table(results):
     rows = []
     for name, folder in run_folders(results):
-        s = read_summary(folder)
-        _, history = read_table(os.path.join(folder, "contact_history.txt"))
+        s = suite.read_summary(folder)
+        history = suite.read_table(os.path.join(folder, "contact_history.txt"))
         penalty = s["problem"] == "penalty"
         rows.append([
-            name, s["problem"], float(s["eps"]) if penalty else math.nan, float(s["dt"]), mesh_label(s),
-            int(s["zone_free"]), int(s["zone_damped_slip"]), int(s["zone_bound_slip"]),
-            int(s["zone_damped_stick"]) + int(s["zone_bound_stick"]),
+            name, s["problem"], s.real("eps") if penalty else math.nan, s.real("dt"), mesh_label(s),
+            s.integer("zone_free"), s.integer("zone_damped_slip"), s.integer("zone_bound_slip"),
+            s.integer("zone_damped_stick") + s.integer("zone_bound_stick"),
             float(history["x_B"][-1]), float(history["x_C"][-1]), PAPER_AB, PAPER_BC])
     path = os.path.join(results, "zones.txt")
-    write_table(path, ["zones on Gamma3 at T (summary.txt) and zone boundaries at T (last line of contact_history.txt)",
-                       "AB zone_damped_slip, BC zone_bound_slip, CD zone_damped_stick + zone_bound_stick; eps nan for the original problem"],
-                "run problem eps dt mesh free AB BC CD x_B x_C paper_AB paper_BC".split(), rows)
+    suite.write_table(path, ["zones on Gamma3 at T (summary.txt) and zone boundaries at T (last line of contact_history.txt)",
+                             "AB zone_damped_slip, BC zone_bound_slip, CD zone_damped_stick + zone_bound_stick; eps nan for the original problem"],
+                      "run problem eps dt mesh free AB BC CD x_B x_C paper_AB paper_BC".split(), rows)
     print(f"tables.py: zones on Gamma3 at T -> {path}")
     print(f"  {'run':34s} {'eps':>7s} {'dt':>6s} {'mesh':24s} {'free':>4s} {'AB':>3s} {'BC':>3s} {'CD':>3s} {'x_B':>7s} {'x_C':>7s}   paper AB BC")
     for r in rows:
@@ -136,9 +109,15 @@ def zones_table(results):
     return rows
 
 
+def mesh_of(folder):
+    """Nodes (x, y in file order) and triangles of a run's mesh.msh."""
+    mesh = suite.read_msh22(os.path.join(folder, "mesh.msh"))
+    return mesh.xy, mesh.triangles
+
+
 def velocity_field(folder, xy):
     """(v_x, v_y) at every node of fields.txt, after checking that its rows are the mesh nodes."""
-    _, fields = read_table(os.path.join(folder, "fields.txt"))
+    fields = suite.read_table(os.path.join(folder, "fields.txt"))
     coordinates = np.column_stack([fields["x"], fields["y"]])
     if coordinates.shape != xy.shape or np.max(np.abs(coordinates - xy)) > COORDINATE_TOL:
         fail(f"{folder}/fields.txt: its rows are not the nodes of the reference mesh")
@@ -150,20 +129,20 @@ def compare_runs(reference, folder):
     |dv_nu| and |dv_tau|, max over all nodes of |dv|, and ||dv||_L2(Omega) with the consistent
     mass matrix when both runs have the same triangles (nan otherwise: on two different
     triangulations of the same nodes the difference is not a P1 field of either)."""
-    s = read_summary(folder)
-    _, contact_ref = read_table(os.path.join(reference, "contact.txt"))
-    _, contact = read_table(os.path.join(folder, "contact.txt"))
+    s = suite.read_summary(folder)
+    contact_ref = suite.read_table(os.path.join(reference, "contact.txt"))
+    contact = suite.read_table(os.path.join(folder, "contact.txt"))
     if len(contact["x"]) != len(contact_ref["x"]) or np.max(np.abs(contact["x"] - contact_ref["x"])) > COORDINATE_TOL:
         fail(f"{folder}: its Gamma3 nodes are not those of {reference}")
-    xy, triangles = read_msh22_mesh(os.path.join(reference, "mesh.msh"))
-    run_xy, run_triangles = read_msh22_mesh(os.path.join(folder, "mesh.msh"))
+    xy, triangles = mesh_of(reference)
+    run_xy, run_triangles = mesh_of(folder)
     if run_xy.shape != xy.shape or np.max(np.abs(run_xy - xy)) > COORDINATE_TOL:
         fail(f"{folder}: its mesh nodes are not those of {reference}")
     difference = velocity_field(folder, xy) - velocity_field(reference, xy)
     same_triangles = run_triangles.shape == triangles.shape and np.array_equal(np.sort(run_triangles, axis=1), np.sort(triangles, axis=1))
-    return {"run": folder, "problem": s["problem"], "dt": float(s["dt"]),
-            "AB": int(s["zone_damped_slip"]), "BC": int(s["zone_bound_slip"]),
-            "CD": int(s["zone_damped_stick"]) + int(s["zone_bound_stick"]),
+    return {"run": folder, "problem": s["problem"], "dt": s.real("dt"),
+            "AB": s.integer("zone_damped_slip"), "BC": s.integer("zone_bound_slip"),
+            "CD": s.integer("zone_damped_stick") + s.integer("zone_bound_stick"),
             "max_dv_nu_gamma3": float(np.max(np.abs(contact["v_nu"] - contact_ref["v_nu"]))),
             "max_dv_tau_gamma3": float(np.max(np.abs(contact["v_tau"] - contact_ref["v_tau"]))),
             "max_dv_nodes": float(np.max(np.hypot(difference[:, 0], difference[:, 1]))),
@@ -178,17 +157,17 @@ def choices_table(results):
     rows = []
     for name, folder in run_folders(results):
         if name.startswith("choices/"):
-            problem = read_summary(folder)["problem"]
+            problem = suite.read_summary(folder)["problem"]
             row = compare_runs(os.path.join(results, f"paper-{problem}"), folder)
             row.update(run=name, reference=f"paper-{problem}")
             rows.append(row)
     if not rows:
         return rows
     path = os.path.join(results, "choices", "choices.txt")
-    write_table(path, ["each run of choices/ against the paper run of the same problem, at T: zones on Gamma3,",
-                       "max over Gamma3 nodes of |dv_nu| and |dv_tau|, max over all nodes of |dv| (m/s), and ||dv||_L2(Omega)",
-                       "(consistent P1 mass matrix; nan when the two runs have different triangles)"],
-                COMPARE_COLUMNS, [[row[c] for c in COMPARE_COLUMNS] for row in rows])
+    suite.write_table(path, ["each run of choices/ against the paper run of the same problem, at T: zones on Gamma3,",
+                             "max over Gamma3 nodes of |dv_nu| and |dv_tau|, max over all nodes of |dv| (m/s), and ||dv||_L2(Omega)",
+                             "(consistent P1 mass matrix; nan when the two runs have different triangles)"],
+                      COMPARE_COLUMNS, [[row[c] for c in COMPARE_COLUMNS] for row in rows])
     print(f"tables.py: the open choices, against the paper runs -> {path}")
     print_comparison(rows)
     return rows
@@ -224,28 +203,28 @@ def successive_differences(folders):
 
 def eps_study_table(results):
     reference = os.path.join(results, "paper-original")
-    xy, triangles = read_msh22_mesh(os.path.join(reference, "mesh.msh"))
+    xy, triangles = mesh_of(reference)
     area = consistent_mass_norm2(xy, triangles, np.ones((len(xy), 1)))
     span = xy.max(axis=0) - xy.min(axis=0)
     if abs(area - span[0] * span[1]) > 1e-12 * span[0] * span[1]:   # ||1||^2 = |Omega| for the rectangle
         fail(f"mass matrix check: ||1||^2 = {area!r}, expected the area {span[0] * span[1]!r}")
     v_ref = velocity_field(reference, xy)
-    _, contact_ref = read_table(os.path.join(reference, "contact.txt"))
+    contact_ref = suite.read_table(os.path.join(reference, "contact.txt"))
     rows = []
     for name, folder in run_folders(results):
         if not name.startswith("eps-study/"):
             continue
-        s = read_summary(folder)
-        run_xy, _ = read_msh22_mesh(os.path.join(folder, "mesh.msh"))
+        s = suite.read_summary(folder)
+        run_xy, _ = mesh_of(folder)
         if run_xy.shape != xy.shape or np.max(np.abs(run_xy - xy)) > COORDINATE_TOL:
             fail(f"{folder}/mesh.msh: not the mesh of {reference}")
         difference = velocity_field(folder, xy) - v_ref
-        _, contact = read_table(os.path.join(folder, "contact.txt"))
+        contact = suite.read_table(os.path.join(folder, "contact.txt"))
         if len(contact["x"]) != len(contact_ref["x"]) or np.max(np.abs(contact["x"] - contact_ref["x"])) > COORDINATE_TOL:
             fail(f"{folder}/contact.txt: not the Gamma3 nodes of {reference}")
-        rows.append([float(s["eps"]), math.sqrt(consistent_mass_norm2(xy, triangles, difference)),
+        rows.append([s.real("eps"), math.sqrt(consistent_mass_norm2(xy, triangles, difference)),
                      float(np.max(np.abs(contact["v_nu"] - contact_ref["v_nu"]))),
-                     int(s["zone_damped_slip"]), int(s["zone_bound_slip"])])
+                     s.integer("zone_damped_slip"), s.integer("zone_bound_slip")])
     if not rows:
         print("tables.py: no eps-study runs; eps_study.txt not written")
         return rows
@@ -256,11 +235,11 @@ def eps_study_table(results):
     if len(tail) >= 2 and all(r[1] > 0 for r in tail):
         slope = float(np.polyfit(np.log([r[0] for r in tail]), np.log([r[1] for r in tail]), 1)[0])
     path = os.path.join(results, "eps-study", "eps_study.txt")
-    write_table(path, ["reference paper-original", "norm consistent_P1_mass_matrix",
-                       "error_L2 = ||v_eps - v||_L2(Omega) at T (consistent P1 mass matrix, no density); "
-                       "error_gamma3_max = max over Gamma3 nodes of |v_nu,eps - v_nu| at T",
-                       f"slope_tail {slope!r}", f"tail_eps {','.join(repr(e) for e in tail_eps)}"],
-                "eps error_L2 error_gamma3_max zone_AB zone_BC".split(), rows)
+    suite.write_table(path, ["reference paper-original", "norm consistent_P1_mass_matrix",
+                             "error_L2 = ||v_eps - v||_L2(Omega) at T (consistent P1 mass matrix, no density); "
+                             "error_gamma3_max = max over Gamma3 nodes of |v_nu,eps - v_nu| at T",
+                             f"slope_tail {slope!r}", f"tail_eps {','.join(repr(e) for e in tail_eps)}"],
+                      "eps error_L2 error_gamma3_max zone_AB zone_BC".split(), rows)
     print(f"tables.py: penalty eps study against paper-original -> {path}")
     print(f"  {'eps':>7s} {'error_L2':>10s} {'max|dv_nu|':>10s}  AB  BC")
     for r in rows:
@@ -300,4 +279,4 @@ def main():
 
 
 if __name__ == "__main__":
-    main()
+    suite.run_tool("tables.py", main)

@@ -1,5 +1,6 @@
 #!/usr/bin/python3
-"""Check one output folder of edp/solve.edp against the physics of DESIGN.md section 5.
+"""Check one output folder of edp/solve.edp against the physics (docs/design.md,
+"End-of-run checks" and "Energy identity").
 
 Reads only the text outputs (nothing of the solver), so it is an independent check:
   constraint and complementarity (original problem), the penalty law (penalty problem),
@@ -11,7 +12,9 @@ agreement with another output folder of the same discrete problem.
 
 Usage: check_results.py DIR [--zones FREE,DAMPED_SLIP,DAMPED_STICK,BOUND_SLIP,BOUND_STICK] [--column]
                             [--compare OTHER_DIR] [--rtol 1e-9]
-Prints one line per failed check and exits 1 if any failed.
+Prints one line per failed check and exits 1 if any failed (or, on an unreadable
+input, one error line); exits 2 when plots/suite.py cannot be imported (run it through
+./run.sh, which sets PYTHONPATH).
 """
 import argparse
 import math
@@ -20,33 +23,16 @@ import sys
 
 import numpy as np
 
+try:
+    import suite
+except ModuleNotFoundError as error:
+    if error.name != "suite":
+        raise
+    print(f"{os.path.basename(sys.argv[0])}: error: cannot import suite (plots/suite.py): run it through ./run.sh, "
+          "or set PYTHONPATH=plots", file=sys.stderr)
+    sys.exit(2)
+
 FILES = ("contact.txt", "fields.txt", "history.txt", "contact_history.txt", "summary.txt")
-
-
-def read_table(path):
-    """Header parameters (# key value lines), column names (last # line), data."""
-    params, columns = {}, None
-    with open(path) as f:
-        for line in f:
-            if not line.startswith("#"):
-                break
-            words = line[1:].split()
-            if len(words) == 2:
-                params[words[0]] = words[1]
-            columns = words
-    data = np.loadtxt(path, comments="#", ndmin=2)
-    return params, columns, data
-
-
-def read_summary(path):
-    summary = {}
-    with open(path) as f:
-        for line in f:
-            if line.startswith("#") or not line.strip():
-                continue
-            key, value = line.split(None, 1)
-            summary[key] = value.strip()
-    return summary
 
 
 class Checker:
@@ -63,15 +49,12 @@ class Checker:
         for name in FILES:
             if not self.expect(os.path.isfile(os.path.join(self.folder, name)), f"missing {name}"):
                 return False
-        self.params, cols, self.contact = read_table(os.path.join(self.folder, "contact.txt"))
-        self.c = {name: self.contact[:, i] for i, name in enumerate(cols)}
-        _, cols, self.history = read_table(os.path.join(self.folder, "history.txt"))
-        self.h = {name: self.history[:, i] for i, name in enumerate(cols)}
-        _, cols, self.fields = read_table(os.path.join(self.folder, "fields.txt"))
-        self.f = {name: self.fields[:, i] for i, name in enumerate(cols)}
-        _, cols, self.contact_history = read_table(os.path.join(self.folder, "contact_history.txt"))
-        self.ch = {name: self.contact_history[:, i] for i, name in enumerate(cols)}
-        self.summary = read_summary(os.path.join(self.folder, "summary.txt"))
+        self.c = suite.read_table(os.path.join(self.folder, "contact.txt"))
+        self.params = self.c.params
+        self.h = suite.read_table(os.path.join(self.folder, "history.txt"))
+        self.f = suite.read_table(os.path.join(self.folder, "fields.txt"))
+        self.ch = suite.read_table(os.path.join(self.folder, "contact_history.txt"))
+        self.summary = suite.read_summary(os.path.join(self.folder, "summary.txt"))
         for name in ("x", "v_nu", "v_tau", "p_nu", "lambda_nu", "lambda_tau", "normal_status",
                      "tangential_status", "weight"):
             self.expect(name in self.c, f"contact.txt lacks column {name}")
@@ -84,7 +67,11 @@ class Checker:
         return not self.failures
 
     def real(self, key):
-        return float(self.params[key])
+        return self.params.real(key)
+
+    def count(self, key):
+        """A whole number of summary.txt, -1 when it is not there."""
+        return self.summary.integer(key) if key in self.summary else -1
 
     def check_contact(self, rtol):
         c, cnu, g, mu = self.c, self.real("cnu"), self.real("g"), self.real("mu")
@@ -127,9 +114,9 @@ class Checker:
             "zone_bound_stick": int(((normal == 2) & (tangential == 0)).sum()),
         }
         for key, value in zones.items():
-            self.expect(int(self.summary.get(key, -1)) == value,
+            self.expect(self.count(key) == value,
                         f"summary {key} = {self.summary.get(key)} but contact.txt gives {value}")
-        self.expect(int(self.summary.get("contact_nodes", -1)) == len(vn), "summary contact_nodes != rows of contact.txt")
+        self.expect(self.count("contact_nodes") == len(vn), "summary contact_nodes != rows of contact.txt")
         self.zones = zones
         # the last line of contact_history.txt describes the same final state
         ch = self.ch
@@ -152,7 +139,7 @@ class Checker:
 
     def check_energy(self, rtol):
         h = self.h
-        steps = int(self.summary["steps"])
+        steps = self.summary.integer("steps")
         dt, T = self.real("dt"), self.real("T")
         self.expect(len(h["t"]) == steps == round(T / dt), f"history has {len(h['t'])} steps, expected T/dt")
         self.expect(np.allclose(h["t"], dt * np.arange(1, len(h["t"]) + 1), rtol=1e-12, atol=0), "history t != n dt")
@@ -173,7 +160,7 @@ class Checker:
         off = np.abs(reported - np.abs(balance) / largest).max()
         self.expect(off <= rtol, f"energy_residual column differs from the recomputed balance by {off:.3e}")
         if "check_energy_residual" in self.summary:
-            self.expect(float(self.summary["check_energy_residual"]) == reported.max(),
+            self.expect(self.summary.real("check_energy_residual") == reported.max(),
                         "summary check_energy_residual != max of history energy_residual")
         parts = h["kinetic_jump"] + h["elastic_jump"] - h["numerical_dissipation"]
         self.expect(np.abs(parts).max() <= rtol * largest.max(), "kinetic_jump + elastic_jump != numerical_dissipation")
@@ -231,19 +218,19 @@ class Checker:
         differ by at most rtol of the family's scale, so that a column that is round-off in
         both runs (lambda_nu before any node reaches the bound, lambda_tau without friction)
         is compared as such; the `exact` columns (zone counts and boundaries) are equal."""
-        _, ca, a = read_table(os.path.join(self.folder, name))
-        _, cb, b = read_table(os.path.join(other_folder, name))
-        if not self.expect(a.shape == b.shape, f"{name}: shapes differ {a.shape} {b.shape}"):
+        a = suite.read_table(os.path.join(self.folder, name))
+        b = suite.read_table(os.path.join(other_folder, name))
+        if not self.expect(a.data.shape == b.data.shape, f"{name}: shapes differ {a.data.shape} {b.data.shape}"):
             return
         for family in families:
-            scale = max(max(np.abs(a[:, ca.index(col)]).max(), np.abs(b[:, cb.index(col)]).max()) for col in family)
+            scale = max(max(np.abs(a[col]).max(), np.abs(b[col]).max()) for col in family)
             scale = max(scale, 1e-300)
             for col in family:
-                err = np.abs(a[:, ca.index(col)] - b[:, cb.index(col)]).max() / scale
+                err = np.abs(a[col] - b[col]).max() / scale
                 self.expect(err <= rtol, f"{name} {col}: difference {err:.3e} of the scale of {'/'.join(family)}"
                             f" > {rtol:g} vs {other_folder}")
         for col in exact:
-            x, y = a[:, ca.index(col)], b[:, cb.index(col)]
+            x, y = a[col], b[col]
             differ = ~((x == y) | (np.isnan(x) & np.isnan(y)))
             self.expect(not differ.any(), f"{name} {col}: differs at {int(differ.sum())} steps vs {other_folder}")
 
@@ -258,6 +245,7 @@ class Checker:
                 ("contact_history.txt", (("normal_force", "tangential_force"),), self.ZONES + ("x_B", "x_C"))):
             if os.path.isfile(os.path.join(self.folder, name)) and os.path.isfile(os.path.join(other_folder, name)):
                 self.compare_tables(other_folder, name, families, exact, rtol)
+
 
 def main():
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
@@ -283,4 +271,4 @@ def main():
 
 
 if __name__ == "__main__":
-    main()
+    suite.run_tool("check_results.py", main)

@@ -1,7 +1,7 @@
 #!/usr/bin/python3
 """independent_solver.py: an independent NumPy implementation of the discrete dynamic
-frictional contact problem of DESIGN.md sections 1-2 (Barboteu, Ouafik, Sofonea 2018),
-used to cross-check the FreeFEM code (edp/solve.edp) on small meshes.
+frictional contact problem (docs/design.md, "The discrete problem"; Barboteu, Ouafik,
+Sofonea 2018), used to cross-check the FreeFEM code (edp/solve.edp) on small meshes.
 
 WHAT IT SOLVES
   Plane stress, P1 triangles, velocity v as unknown, backward Euler with k = T/N,
@@ -9,18 +9,20 @@ WHAT IT SOLVES
     (1/k) m(v_n - v_{n-1}, w) + a(v_n, w) + b(u_{n-1} + k v_n, w)
       + sum_i w_i [ (p(v_nu_i) + lambda_nu_i) w_nu(x_i) + lambda_tau_i w_tau(x_i) ] = f_n(w)
   m = int rho v.w (consistent P1 mass), a = int muv div div + eta eps:eps,
-  b = int E nu/(1-nu^2) div div + E/(1+nu) eps:eps, f_n(w) = int_{label 3} (0,-load t_n).w,
-  p(r) = cnu max(r,0). Contact is nodal on the label-1 nodes, weight w_i = half the length
-  of the adjacent label-1 edges, outward normal (0,-1): v_nu = -v_y, v_tau = v_x.
+  b = int E nu/(1-nu^2) div div + E/(1+nu) eps:eps, f_n(w) = int_{GammaTraction} (0,-load t_n).w,
+  p(r) = cnu max(r,0). Contact is nodal on the GammaContact nodes, weight w_i = half the
+  length of the adjacent GammaContact edges, outward normal (0,-1): v_nu = -v_y, v_tau = v_x.
     original: v_nu <= g, lambda_nu >= 0, lambda_nu (v_nu - g) = 0
     penalty : lambda_nu = max(v_nu - g, 0)/eps
     friction: |lambda_tau| <= mu p(v_nu), lambda_tau = mu p(v_nu) v_tau/|v_tau| if v_tau != 0
   A Dirichlet-fixed component carries no contact unknown. Scenes (fixed components):
-    paper : label 4 x and y, label 2 x;   column: label 4 x.
+    paper : GammaLeft x and y, GammaRight x;   column: GammaLeft x.
+  The boundary labels are named as in edp/lib/forms.idp, which gives their numbers.
 
-HOW (independent of the FreeFEM code; written from DESIGN.md and the paper only)
-  * own gmsh MSH 2.2 (ASCII) reader; own element matrices (gradients of barycentric
-    coordinates, Voigt form with engineering shear), dense global matrices;
+HOW (independent of the FreeFEM code; written from docs/design.md and the paper only)
+  * the files (the MSH 2.2 mesh, the tables of a run, the label numbers) are read with
+    plots/suite.py; own element matrices (gradients of barycentric coordinates, Voigt
+    form with engineering shear), dense global matrices;
   * Dirichlet components are removed from the unknowns (no penalty/tgv);
   * each step is solved by a semismooth Newton method on the FULL, uncondensed system
     (free velocities + one lambda_nu per normal slot + one lambda_tau per tangential
@@ -48,17 +50,19 @@ USAGE
       [--problem original|penalty] [--T 1] [--dt 0.05] [--rho 2e-6] [--E 100] [--nu 0.2]
       [--muv 0.25] [--eta 0.5] [--load 10] [--cnu 50] [--g 0.05] [--mu 0.4] [--eps 2e-5]
       [--tol 1e-12] [--maxit 100] --out DIR
-    writes DIR/contact.txt (x v_nu v_tau p_nu lambda_nu lambda_tau, label-1 nodes sorted
+    writes DIR/contact.txt (x v_nu v_tau p_nu lambda_nu lambda_tau, GammaContact nodes sorted
     by x) and DIR/fields.txt (x y u_x u_y v_x v_y, all nodes in the file's node order),
-    17 significant digits, '#' header lines (parameters, then the column names).
+    floats in full precision, '#' header lines (parameters, then the column names).
   /usr/bin/python3 tests/independent_solver.py --compare FREEFEM_RUN_DIR [--rtol 1e-9]
       [--out DIR]
     takes the parameters from FREEFEM_RUN_DIR/summary.txt and the contact.txt header,
     the mesh from FREEFEM_RUN_DIR/mesh.msh (else the file named by the
-    last 'mesh' line of summary.txt), solves, and prints per column the max abs
+    'mesh' line of summary.txt), solves, and prints per column the max abs
     difference relative to the column's max abs value (contact.txt: v_nu v_tau p_nu
     lambda_nu lambda_tau; fields.txt: u_x u_y v_x v_y). Exit 1 if any exceeds rtol.
-  Exit status: 0 ok, 1 comparison failed, 2 bad usage/input, 4 a step did not converge.
+  Exit status: 0 ok, 1 comparison failed, 2 bad usage/input (also when plots/suite.py
+  cannot be imported: run it through ./run.sh, which sets PYTHONPATH), 4 a step did not
+  converge.
 Only numpy is needed.
 """
 import argparse
@@ -68,72 +72,32 @@ import time
 
 import numpy as np
 
+try:
+    import suite
+except ModuleNotFoundError as error:
+    if error.name != "suite":
+        raise
+    print("independent_solver: error: cannot import suite (plots/suite.py): run it through ./run.sh, "
+          "or set PYTHONPATH=plots", file=sys.stderr)
+    sys.exit(2)
+
 SCENES = {
-    # label -> fixed components (0 = x, 1 = y)
-    "paper": {4: (0, 1), 2: (0,)},
-    "column": {4: (0,)},
+    # boundary label (its name in edp/lib/forms.idp) -> fixed components (0 = x, 1 = y)
+    "paper": {"GammaLeft": (0, 1), "GammaRight": (0,)},
+    "column": {"GammaLeft": (0,)},
 }
-TRACTION_DIRECTION = (0.0, -1.0)     # f2 = load * t * (0, -1) on label 3, both scenes
-CONTACT, TRACTION = 1, 3
+TRACTION_DIRECTION = (0.0, -1.0)     # f2 = load * t * (0, -1) on GammaTraction, both scenes
 DEFAULTS = dict(scene="paper", problem="original", T=1.0, dt=0.05, rho=2e-6, E=100.0,
                 nu=0.2, muv=0.25, eta=0.5, load=10.0, cnu=50.0, g=0.05, mu=0.4, eps=2e-5)
 PARAM_KEYS = ["scene", "problem", "T", "dt", "rho", "E", "nu", "muv", "eta", "load",
               "cnu", "g", "mu", "eps"]
 
 
-class InputError(Exception):
-    pass
+InputError = suite.InputError
 
 
 class ConvergenceError(Exception):
     pass
-
-
-# ----------------------------------------------------------------------------- mesh
-def read_msh22(path):
-    """Return (xy[nn,2], tri[nt,3], edges[ne,2], edge_labels[ne]) in file node order."""
-    try:
-        with open(path) as f:
-            lines = f.read().split("\n")
-    except OSError as e:
-        raise InputError("cannot read mesh %s: %s" % (path, e))
-    i, nodes_xy, node_index, tris, edges, labels = 0, None, {}, [], [], []
-    fmt_ok = False
-    while i < len(lines):
-        s = lines[i].strip()
-        if s == "$MeshFormat":
-            w = lines[i + 1].split()
-            if not w or not w[0].startswith("2.") or w[1] != "0":
-                raise InputError("%s: not an ASCII gmsh MSH 2.x file" % path)
-            fmt_ok = True
-            i += 2
-        elif s == "$Nodes":
-            n = int(lines[i + 1])
-            nodes_xy = np.empty((n, 2))
-            for j in range(n):
-                w = lines[i + 2 + j].split()
-                node_index[int(w[0])] = j
-                nodes_xy[j] = float(w[1]), float(w[2])
-            i += 2 + n
-        elif s == "$Elements":
-            n = int(lines[i + 1])
-            for j in range(n):
-                w = [int(t) for t in lines[i + 2 + j].split()]
-                etype, ntags = w[1], w[2]
-                tags, vs = w[3:3 + ntags], w[3 + ntags:]
-                if etype == 2:
-                    tris.append([node_index[v] for v in vs[:3]])
-                elif etype == 1:
-                    if ntags < 1:
-                        raise InputError("%s: boundary line without physical tag" % path)
-                    edges.append([node_index[v] for v in vs[:2]])
-                    labels.append(tags[0])
-            i += 2 + n
-        else:
-            i += 1
-    if not fmt_ok or nodes_xy is None or not tris:
-        raise InputError("%s: no MSH 2.2 format/nodes/triangles found" % path)
-    return nodes_xy, np.array(tris, dtype=int), np.array(edges, dtype=int), np.array(labels, dtype=int)
 
 
 # ----------------------------------------------------------------------------- assembly
@@ -184,10 +148,12 @@ def assemble(xy, tri, prm):
 
 
 def boundary_data(xy, edges, elab, scene):
+    labels = suite.labels()
+    contact, traction = labels["GammaContact"], labels["GammaTraction"]
     nn = len(xy)
     fixed = np.zeros(2 * nn, dtype=bool)
-    for lab, comps in SCENES[scene].items():
-        for e in edges[elab == lab]:
+    for name, comps in SCENES[scene].items():
+        for e in edges[elab == labels[name]]:
             for v in e:
                 for c in comps:
                     fixed[2 * v + c] = True
@@ -195,16 +161,16 @@ def boundary_data(xy, edges, elab, scene):
     trac = np.zeros(2 * nn)
     for e, lab in zip(edges, elab):
         L = np.linalg.norm(xy[e[1]] - xy[e[0]])
-        if lab == CONTACT:
+        if lab == contact:
             weight[e] += 0.5 * L
-        elif lab == TRACTION:
+        elif lab == traction:
             for v in e:               # consistent P1 integral of a constant: L/2 per node
                 trac[2 * v] += 0.5 * L * TRACTION_DIRECTION[0]
                 trac[2 * v + 1] += 0.5 * L * TRACTION_DIRECTION[1]
-    for lab in (1, 2, 3, 4):
+    for name, lab in labels.items():
         if not (elab == lab).any():
-            raise InputError("mesh has no boundary label %d" % lab)
-    cnodes = np.unique(edges[elab == CONTACT].ravel())
+            raise InputError("mesh has no boundary label %d (%s)" % (lab, name))
+    cnodes = np.unique(edges[elab == contact].ravel())
     cnodes = cnodes[np.lexsort((xy[cnodes, 1], xy[cnodes, 0]))]   # sorted by x
     return fixed, weight, trac, cnodes
 
@@ -490,80 +456,46 @@ class Problem:
         return np.column_stack([self.xy, self.u[0::2], self.u[1::2], self.v[0::2], self.v[1::2]])
 
 
-def write_table(path, header_params, columns, data):
-    with open(path, "w") as f:
-        for kk in PARAM_KEYS:
-            f.write("# %s %s\n" % (kk, header_params[kk]))
-        f.write("# " + " ".join(columns) + "\n")
-        for row in data:
-            f.write(" ".join("%.17g" % val for val in row) + "\n")
+def write_table(path, prm, columns, data):
+    suite.write_table(path, ["%s %s" % (kk, prm[kk]) for kk in PARAM_KEYS], columns, data)
 
 
 def solve(mesh, prm, tol, maxit, verbose=False):
-    xy, tri, edges, elab = read_msh22(mesh)
+    m = suite.read_msh22(mesh)
     t0 = time.time()
-    pb = Problem(xy, tri, edges, elab, prm).run(tol, maxit, verbose)
+    pb = Problem(m.xy, m.triangles, m.lines, m.line_labels, prm).run(tol, maxit, verbose)
     return pb, time.time() - t0
 
 
 # ----------------------------------------------------------------------------- compare
-def read_params_lines(lines, comment):
-    d = {}
-    for ln in lines:
-        s = ln.strip()
-        if comment:
-            if not s.startswith("#"):
-                continue
-            s = s[1:].strip()
-        elif s.startswith("#"):
-            continue
-        w = s.split()
-        if len(w) == 2 and w[0] in PARAM_KEYS and w[0] not in d:
-            d[w[0]] = w[1]
-    return d
-
-
-def read_table(path):
-    with open(path) as f:
-        lines = f.read().splitlines()
-    head = [ln for ln in lines if ln.startswith("#")]
-    cols = head[-1][1:].split()
-    data = np.array([[float(t) for t in ln.split()] for ln in lines if ln.strip() and not ln.startswith("#")])
-    return cols, data, head
-
-
 def to_params(d, where):
+    """The parameters PARAM_KEYS of a run from the suite.Values d of one of its files."""
     prm = {}
     for kk in PARAM_KEYS:
         if kk not in d:
             raise InputError("%s: parameter '%s' missing" % (where, kk))
-        prm[kk] = d[kk] if kk in ("scene", "problem") else float(d[kk])
+        prm[kk] = d[kk] if kk in ("scene", "problem") else d.real(kk)
     return prm
 
 
 def compare(run_dir, rtol, tol, maxit, out):
-    with open(os.path.join(run_dir, "summary.txt")) as f:
-        summ = read_params_lines(f.read().splitlines(), comment=False)
-    ccols, cdata, chead = read_table(os.path.join(run_dir, "contact.txt"))
-    hdr = read_params_lines(chead, comment=True)
+    summ = suite.read_summary(os.path.join(run_dir, "summary.txt"))
+    theirs_c = suite.read_table(os.path.join(run_dir, "contact.txt"))
     prm = to_params(summ, "summary.txt")
-    prm2 = to_params(hdr, "contact.txt header")
+    prm2 = to_params(theirs_c.params, "contact.txt header")
     for kk in PARAM_KEYS:
         if prm[kk] != prm2[kk]:
             raise InputError("parameter %s differs: summary.txt %s, contact.txt %s" % (kk, prm[kk], prm2[kk]))
     if prm["scene"] not in SCENES or prm["problem"] not in ("original", "penalty"):
         raise InputError("unsupported scene/problem %s/%s" % (prm["scene"], prm["problem"]))
-    fcols, fdata, _ = read_table(os.path.join(run_dir, "fields.txt"))
+    theirs_f = suite.read_table(os.path.join(run_dir, "fields.txt"))
     print("parameters: " + " ".join("%s=%s" % (kk, prm[kk]) for kk in PARAM_KEYS))
     mesh = os.path.join(run_dir, "mesh.msh")
     if not os.path.exists(mesh):
-        # a run made with -mesh FILE records the file's path as the last "mesh" key
-        with open(os.path.join(run_dir, "summary.txt")) as f:
-            paths = [ln.split(None, 1)[1].strip() for ln in f
-                     if ln.startswith("mesh ") and ln.split(None, 1)[1].strip() != "none"]
-        if not paths:
+        # a run made with -mesh FILE records the file's path as its "mesh" key
+        if summ.get("mesh", "none") == "none":
             raise InputError("%s has no mesh.msh and summary.txt names no mesh" % run_dir)
-        mesh = paths[-1]
+        mesh = summ["mesh"]
     print("mesh: %s" % mesh)
     pb, elapsed = solve(mesh, prm, tol, maxit)
     print("independent solve: %d steps, %d dofs (%d free), %d contact nodes, Newton iterations "
@@ -575,22 +507,22 @@ def compare(run_dir, rtol, tol, maxit, out):
         os.makedirs(out, exist_ok=True)
         write_table(os.path.join(out, "contact.txt"), prm, CONTACT_COLS, mine_c)
         write_table(os.path.join(out, "fields.txt"), prm, FIELD_COLS, mine_f)
-    if cdata.shape[0] != mine_c.shape[0] or fdata.shape[0] != mine_f.shape[0]:
+    if len(theirs_c) != mine_c.shape[0] or len(theirs_f) != mine_f.shape[0]:
         raise InputError("row counts differ: contact %d vs %d, fields %d vs %d"
-                         % (cdata.shape[0], mine_c.shape[0], fdata.shape[0], mine_f.shape[0]))
-    geo = max(np.abs(cdata[:, ccols.index("x")] - mine_c[:, 0]).max(),
-              np.abs(fdata[:, fcols.index("x")] - mine_f[:, 0]).max(),
-              np.abs(fdata[:, fcols.index("y")] - mine_f[:, 1]).max())
+                         % (len(theirs_c), mine_c.shape[0], len(theirs_f), mine_f.shape[0]))
+    geo = max(np.abs(theirs_c["x"] - mine_c[:, 0]).max(),
+              np.abs(theirs_f["x"] - mine_f[:, 0]).max(),
+              np.abs(theirs_f["y"] - mine_f[:, 1]).max())
     if geo > 1e-12:
         raise InputError("node coordinates/order differ (max %.3g)" % geo)
     worst = 0.0
-    for fname, cols, theirs, mine, names in (
-            ("contact.txt", ccols, cdata, mine_c, CONTACT_COLS),
-            ("fields.txt", fcols, fdata, mine_f, FIELD_COLS)):
+    for fname, theirs, mine, names in (
+            ("contact.txt", theirs_c, mine_c, CONTACT_COLS),
+            ("fields.txt", theirs_f, mine_f, FIELD_COLS)):
         for j, name in enumerate(names):
             if name in ("x", "y"):
                 continue
-            a = theirs[:, cols.index(name)]
+            a = theirs[name]
             b = mine[:, j]
             diff = np.abs(a - b).max()
             scale = max(np.abs(a).max(), 1e-300)

@@ -27,45 +27,34 @@ import argparse
 import glob
 import math
 import os
-import re
 import sys
 
 import numpy as np
 
-sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "tests"))
-from check_results import Checker  # noqa: E402
+from check_results import Checker  # first: it stops with a clear line when suite is not on PYTHONPATH
+import suite
 
 AGREEMENT_RTOL = 1e-8
-# Defaults of the paper scene and of edp/lib/options.idp (README, "Running one case").
-DEFAULTS = {"scene": "paper", "problem": "original", "solver": "newton", "nx": "66", "ny": "33",
-            "T": "1", "dt": "0.01", "rho": "2e-6", "E": "100", "nu": "0.2", "muv": "0.25",
-            "eta": "0.5", "load": "10", "cnu": "50", "g": "0.05", "mu": "0.4", "eps": "2e-5",
-            "tol": "1e-10", "maxit": "50", "r": "1", "safeguard": "on", "penaltyform": "compliant",
-            "mesh": "none"}
 METHOD_OPTIONS = ("solver", "safeguard", "penaltyform", "r", "maxit", "out")
 # The paper box of the brief: mu 0..1.5, load 1..100 (0.1x to 10x), k 1e-4..0.2, eps >= 1e-12.
 COLUMNS = ("id method problem solver safeguard penaltyform nx ny T dt mu load eps r maxit exit mode period "
            "fail_step fail_iterations fail_residual half_residual iter_mean iter_max steps halvings cuts "
            "check_constraint check_penalty_law check_energy_residual wall_s").split()
-MESSAGE = re.compile(r"step (\d+) \(t = [^)]*\): the contact solver did not converge after (\d+) iterations "
-                     r"\(([^)]*)\), residual (\S+) > tol")
 
 
 def read_record(path):
-    record = {}
-    with open(path) as f:
-        for line in f:
-            key, _, value = line.rstrip("\n").partition("=")
-            record[key] = value
+    """One record ID.rec of tests/stability.sh ('key=value' lines), with the options of its
+    run: given (from its command line) and opts (all of them, suite.effective_options)."""
+    record = suite.Values(path)
+    for line in suite.read_lines(path):
+        key, _, value = line.partition("=")
+        record[key] = value
     words = record["options"].split()
-    options = dict(DEFAULTS)
-    given = {}
-    for i in range(0, len(words) - 1, 2):
-        given[words[i].lstrip("-")] = words[i + 1]
-    options.update(given)
-    if options["solver"] == "fixedpoint" and "r" not in given:
-        options["r"] = "0.01"
-    record["opts"] = options
+    given = {words[i].lstrip("-"): words[i + 1] for i in range(0, len(words) - 1, 2)}
+    try:
+        record["opts"] = suite.effective_options(given)
+    except suite.InputError as error:
+        raise suite.InputError(f"{path}: {error}") from None
     record["given"] = given
     return record
 
@@ -80,41 +69,27 @@ def method_name(o):
     return f"{prefix}-{o['solver']}"
 
 
-def read_summary(folder):
-    summary = {}
-    path = os.path.join(folder, "summary.txt")
-    if not os.path.isfile(path):
-        return summary
-    with open(path) as f:
-        for line in f:
-            if line.startswith("#") or not line.strip():
-                continue
-            key, _, value = line.strip().partition(" ")
-            summary[key] = value
-    return summary
-
-
 def same(a, b):
     return a == b or abs(a - b) <= 1e-9 * max(abs(a), abs(b))
 
 
 def classify(record):
     """mode, period, failing step, its iterations, residual, residual at cap/2."""
-    code = int(record["exit"])
+    code = record.integer("exit")
     none = (float("nan"),) * 4
     if code == 0:
         return ("ok", 0) + none
     if code in (124, 137):
         return ("timeout", 0) + none
-    m = MESSAGE.search(record["message"])
-    step, iterations, residual = (int(m.group(1)), int(m.group(2)), float(m.group(4))) if m else (None, None, None)
-    fail = (step if m else float("nan"), iterations if m else float("nan"), residual if m else float("nan"))
+    failure = suite.solver_failure(record["message"])
+    fail = (failure.step, failure.iterations, failure.residual) if failure else (float("nan"),) * 3
     if code == 5:
         return ("nonfinite", 0) + fail + (float("nan"),)
     if code == 9:
         return ("check", 0) + none
-    if code != 4 or not m or "iteration cap" not in m.group(3):
+    if code != 4 or not failure or "iteration cap" not in failure.mode:
         return ("error", 0) + none
+    step, iterations, residual = fail
     probes = {}
     for item in filter(None, record["probes"].split(",")):
         cap, pstep, pres = item.split(":")
@@ -122,7 +97,7 @@ def classify(record):
             probes[int(cap)] = float(pres)
     cap = iterations
     half = probes.get(cap // 2, float("nan"))
-    tol = float(record["opts"]["tol"])
+    tol = record["opts"].real("tol")
     period = next((d for d in range(1, 5) if cap - d in probes and same(probes[cap - d], residual)), 0)
     if residual <= 100 * tol and (period or half <= 2 * residual):
         mode = "floor"
@@ -157,37 +132,34 @@ def build_rows(results):
         record = read_record(path)
         o = record["opts"]
         folder = path[:-4]
-        summary = read_summary(folder) if record["exit"] == "0" else {}
+        converged = record["exit"] == "0" and os.path.isfile(os.path.join(folder, "summary.txt"))
+        summary = suite.read_summary(folder) if converged else suite.Values(folder)
         mode, period, step, iterations, residual, half = classify(record)
 
         def num(key):
-            return float(summary[key]) if key in summary else float("nan")
+            return summary.real(key) if key in summary else float("nan")
         steps = num("steps")
         row = {"sweep": record["sweep"], "id": record["id"], "method": method_name(o), "problem": o["problem"],
                "solver": o["solver"], "safeguard": o["safeguard"], "penaltyform": o["penaltyform"],
-               "nx": int(o["nx"]), "ny": int(o["ny"]), "T": float(o["T"]), "dt": float(o["dt"]),
-               "mu": float(o["mu"]), "load": float(o["load"]), "eps": float(o["eps"]), "r": float(o["r"]),
-               "maxit": int(o["maxit"]), "exit": int(record["exit"]), "mode": mode, "period": period,
+               "nx": o.integer("nx"), "ny": o.integer("ny"), "T": o.real("T"), "dt": o.real("dt"),
+               "mu": o.real("mu"), "load": o.real("load"), "eps": o.real("eps"), "r": o.real("r"),
+               "maxit": o.integer("maxit"), "exit": record.integer("exit"), "mode": mode, "period": period,
                "fail_step": step, "fail_iterations": iterations, "fail_residual": residual, "half_residual": half,
                "iter_mean": num("iterations_total") / steps if steps else float("nan"),
                "iter_max": num("iterations_max"), "steps": steps, "halvings": num("augmentation_halvings"),
                "cuts": num("line_search_cuts"), "check_constraint": num("check_constraint"),
                "check_penalty_law": num("check_penalty_law"), "check_energy_residual": num("check_energy_residual"),
-               "wall_s": float(record["wall"]), "folder": folder, "record": record}
+               "wall_s": record.real("wall"), "folder": folder, "record": record}
         rows.append(row)
     return rows
 
 
-def write_table(path, rows, title):
-    with open(path, "w") as f:
-        f.write(f"# {title}\n")
-        f.write("# written by tests/stability_tables.py from runs/*/*.rec; mode: see its docstring;\n")
-        f.write("# iter_mean = iterations_total/steps, iter_max = iterations_max (converged runs);\n")
-        f.write("# fail_*: the failing step, its iteration count and residual; half_residual: the residual\n")
-        f.write("# of the same step with -maxit cap/2; period: of an exact cycle (0 none); wall_s: seconds\n")
-        f.write("# " + " ".join(COLUMNS) + "\n")
-        for row in rows:
-            f.write(" ".join(fmt(row[c]) for c in COLUMNS) + "\n")
+def write_sweep(path, rows, title):
+    suite.write_table(path, [title, "written by tests/stability_tables.py from runs/*/*.rec; mode: see its docstring;",
+                             "iter_mean = iterations_total/steps, iter_max = iterations_max (converged runs);",
+                             "fail_*: the failing step, its iteration count and residual; half_residual: the residual",
+                             "of the same step with -maxit cap/2; period: of an exact cycle (0 none); wall_s: seconds"],
+                      COLUMNS, [[fmt(row[c]) for c in COLUMNS] for row in rows])
 
 
 def physics_key(row):
@@ -200,7 +172,7 @@ def physics_key(row):
 def method_rank(row):
     o = row["record"]["opts"]
     default = (o["solver"] == "newton" and o["safeguard"] == "on" and o["penaltyform"] == "compliant"
-               and float(o["r"]) == 1.0)
+               and o.real("r") == 1.0)
     return (0 if default else 1, o["solver"] != "newton", row["sweep"], row["id"])
 
 
@@ -209,14 +181,13 @@ def max_difference(folder, other, floors):
     formula (scale = the column's largest |value|), and the same with the scale at least the
     physical floor of the column (p(g) for stresses, g for velocities), so that a column that is
     zero up to round-off (lambda_tau when mu = 0) does not count as a difference of 1."""
-    from check_results import read_table
     plain, floored = 0.0, 0.0
     for name, cols in (("contact.txt", ("v_nu", "v_tau", "p_nu", "lambda_nu", "lambda_tau")),
                        ("fields.txt", ("u_x", "u_y", "v_x", "v_y"))):
-        _, ca, a = read_table(os.path.join(folder, name))
-        _, cb, b = read_table(os.path.join(other, name))
+        a = suite.read_table(os.path.join(folder, name))
+        b = suite.read_table(os.path.join(other, name))
         for col in cols:
-            x, y = a[:, ca.index(col)], b[:, cb.index(col)]
+            x, y = a[col], b[col]
             scale = max(np.abs(x).max(), np.abs(y).max(), 1e-300)
             diff = np.abs(x - y).max()
             plain = max(plain, diff / scale)
@@ -241,8 +212,8 @@ def agreement(rows):
             continue
         reference = unique[0]
         o = reference["record"]["opts"]
-        g = float(o["g"])
-        force = float(o["cnu"]) * g or 1.0
+        g = o.real("g")
+        force = o.real("cnu") * g or 1.0
         floors = {"v_nu": g, "v_tau": g, "v_x": g, "v_y": g, "p_nu": force, "lambda_nu": force, "lambda_tau": force}
         for other in unique[1:]:
             check = Checker(reference["folder"])
@@ -369,7 +340,7 @@ def main():
     for sweep in sorted({r["sweep"] for r in rows}):
         sel = [r for r in rows if r["sweep"] == sweep]
         sel.sort(key=lambda r: (r["method"], r["nx"] * r["ny"], r["eps"], r["r"], -r["dt"], r["mu"], r["load"], r["id"]))
-        write_table(os.path.join(args.results, f"{sweep}.txt"), sel, f"sweep {sweep}: one line per point")
+        write_sweep(os.path.join(args.results, f"{sweep}.txt"), sel, f"sweep {sweep}: one line per point")
     pairs = agreement(rows)
     write_agreement(os.path.join(args.results, "agreement.txt"), pairs)
     hopeless = [r for r in rows if r["sweep"] == "hopeless"]
@@ -385,4 +356,4 @@ def main():
 
 
 if __name__ == "__main__":
-    main()
+    suite.run_tool("stability_tables.py", main)

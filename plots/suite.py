@@ -1,0 +1,389 @@
+"""suite.py: the Python helpers shared by plots/ and tests/.
+
+Readers of the solver's outputs and of the suite's own tables, the gmsh MSH 2.2 reader,
+the table writer, the boundary labels (edp/lib/forms.idp), the option table
+(edp/options.txt) and the scenes (edp/scenes/*.scene), the parser of the solver's
+failure message, and the figure style. Every tool imports it as `import suite`: run.sh
+puts plots/ on PYTHONPATH, and the scripts of plots/ find it next to them.
+
+The files of edp/solve.edp (docs/design.md, "Output files") are plain text: '#' lines
+first, '# name value' for every option of the run, then one '#' line naming the columns,
+then one row per line (read_table); summary.txt is 'key value' lines after its '#' lines
+(read_summary).
+
+On a missing or corrupt input (a missing file, unreadable numbers, a missing column or
+key) the readers raise InputError, whose message names the file and what is wrong; a
+tool runs its main() through run_tool(), which prints that message as one line and
+exits non-zero, without a traceback.
+"""
+import collections
+import functools
+import os
+import re
+import sys
+
+import numpy as np
+
+ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))   # the repository
+EDP = os.path.join(ROOT, "edp")
+
+
+class InputError(Exception):
+    """A missing or unreadable input; the message names the file and the problem."""
+
+
+def run_tool(tool, main, code=1):
+    """Run main(); an InputError, or an OSError of a file, ends the tool with the one line
+    'TOOL: error: MESSAGE' on stderr and exit status `code`."""
+    try:
+        return main()
+    except InputError as error:
+        message = str(error)
+    except OSError as error:
+        message = f"{error.filename}: {error.strerror}" if error.filename else str(error)
+    print(f"{tool}: error: {message}", file=sys.stderr)
+    sys.exit(code)
+
+
+def read_lines(path):
+    """The lines of a text file, without their line ends."""
+    try:
+        with open(path) as f:
+            return f.read().splitlines()
+    except FileNotFoundError:
+        raise InputError(f"missing {path}") from None
+    except UnicodeDecodeError:
+        raise InputError(f"{path}: not a text file") from None
+    except OSError as error:
+        raise InputError(f"cannot read {path}: {error.strerror}") from None
+
+
+# ---------------------------------------------------------------- output files
+class Values(dict):
+    """'name value' pairs of one file (text -> text). A missing name, or a value that is
+    not the number asked for, raises InputError naming the file."""
+
+    def __init__(self, source, pairs=()):
+        super().__init__(pairs)
+        self.source = source
+
+    def __missing__(self, name):
+        raise InputError(f"{self.source}: no {name!r}")
+
+    def real(self, name):
+        return self.number(name, float, "a number")
+
+    def integer(self, name):
+        return self.number(name, int, "a whole number")
+
+    def number(self, name, kind, what):
+        value = self[name]
+        try:
+            return kind(value)
+        except ValueError:
+            raise InputError(f"{self.source}: {name} = {value!r} is not {what}") from None
+
+
+class Table:
+    """One table file: params (Values of its '# name value' lines), columns (the names on
+    its last '#' line) and data (a 2-D numpy array, one row per line); table[name] is the
+    column of that name, len(table) the number of rows."""
+
+    def __init__(self, path, params, columns, data):
+        self.path, self.params, self.columns, self.data = path, params, columns, data
+
+    def __getitem__(self, name):
+        if name not in self.columns:
+            raise InputError(f"{self.path}: no column {name} (columns: {' '.join(self.columns)})")
+        return self.data[:, self.columns.index(name)]
+
+    def __contains__(self, name):
+        return name in self.columns
+
+    def __len__(self):
+        return self.data.shape[0]
+
+    def rows(self):
+        """One Values column name -> value per row."""
+        return [Values(self.path, zip(self.columns, row)) for row in self.data]
+
+
+def read_table(path, dtype=float):
+    """A table written by edp/solve.edp or by the suite's tools: its '#' header lines
+    (the last one names the columns), then rows of dtype (float, or str for tables with
+    words in them)."""
+    lines = read_lines(path)
+    header = []
+    for line in lines:
+        if not line.startswith("#"):
+            break
+        header.append(line[1:].split())
+    if not header or not header[-1]:
+        raise InputError(f"{path}: no '#' line naming the columns")
+    columns = header[-1]
+    params = Values(path, (words for words in header[:-1] if len(words) == 2))
+    rows = [(number, line) for number, line in enumerate(lines[len(header):], len(header) + 1)
+            if line.split("#", 1)[0].strip()]
+    if not rows:
+        return Table(path, params, columns, np.empty((0, len(columns)), dtype=dtype))
+    try:
+        data = np.loadtxt([line for _, line in rows], dtype=dtype, comments="#", ndmin=2)
+    except ValueError:
+        data = None
+    if data is None or data.shape[1] != len(columns):
+        for number, line in rows:                        # name the first bad line
+            words = line.split("#", 1)[0].split()
+            try:
+                [dtype(word) for word in words]
+            except ValueError:
+                raise InputError(f"{path}:{number}: unreadable numbers in '{line}'") from None
+            if len(words) != len(columns):
+                raise InputError(f"{path}:{number}: {len(words)} values for the {len(columns)} columns "
+                                 f"{' '.join(columns)}")
+        raise InputError(f"{path}: unreadable rows")
+    return Table(path, params, columns, data)
+
+
+def read_summary(path):
+    """The 'key value' lines of a run's summary.txt (a value may contain spaces); path is
+    the file or the run folder."""
+    if os.path.isdir(path) or not path.endswith(".txt"):
+        path = os.path.join(path, "summary.txt")
+    summary = Values(path)
+    for line in read_lines(path):
+        if line.startswith("#") or not line.strip():
+            continue
+        words = line.split(None, 1)
+        summary[words[0]] = words[1].strip() if len(words) > 1 else ""
+    return summary
+
+
+def write_table(path, comments, columns, rows):
+    """A table in the format of the solver's outputs: a '# ' line per comment, the '#' line
+    naming the columns, then the rows; floats written with repr (full precision, the same
+    text on every run), anything else with str."""
+    def text(value):
+        if isinstance(value, (float, np.floating)):
+            return repr(float(value))
+        if isinstance(value, np.integer):
+            return str(int(value))
+        return str(value)
+    with open(path, "w") as f:
+        for line in comments:
+            f.write(f"# {line}\n")
+        f.write("# " + " ".join(columns) + "\n")
+        for row in rows:
+            f.write(" ".join(text(value) for value in row) + "\n")
+
+
+# ---------------------------------------------------------------- meshes
+Mesh = collections.namedtuple("Mesh", "xy ids triangles lines line_labels")
+Mesh.__doc__ = """A gmsh MSH 2.2 mesh. xy: (nodes, 2) coordinates in the file's node order;
+ids: gmsh node number -> row of xy; triangles: (triangles, 3) rows of xy; lines: (lines, 2)
+rows of xy of the 2-node boundary lines; line_labels: the physical label of each line
+(its first tag; the labels are those of labels())."""
+
+
+def read_msh22(path):
+    """The nodes, triangles and labelled boundary lines of an ASCII gmsh MSH 2.2 file."""
+    lines = read_lines(path)
+    sections = {line.strip(): i for i, line in enumerate(lines) if line.startswith("$")}
+    for name in ("$MeshFormat", "$Nodes", "$Elements"):
+        if name not in sections:
+            raise InputError(f"{path}: not a gmsh MSH 2.2 file (no {name} section)")
+    try:
+        version, filetype = lines[sections["$MeshFormat"] + 1].split()[:2]
+        if not version.startswith("2.") or filetype != "0":
+            raise InputError(f"{path}: not an ASCII gmsh MSH 2.x file (format {version} {filetype})")
+        start = sections["$Nodes"]
+        count = int(lines[start + 1])
+        ids, xy = {}, np.empty((count, 2))
+        for i, line in enumerate(lines[start + 2:start + 2 + count]):
+            words = line.split()
+            ids[int(words[0])] = i
+            xy[i] = float(words[1]), float(words[2])
+        start = sections["$Elements"]
+        count = int(lines[start + 1])
+        triangles, edges, labels_ = [], [], []
+        for line in lines[start + 2:start + 2 + count]:
+            words = [int(w) for w in line.split()]
+            kind, ntags = words[1], words[2]
+            nodes = [ids[n] for n in words[3 + ntags:]]
+            if kind == 2:                                  # 3-node triangle
+                triangles.append(nodes[:3])
+            elif kind == 1:                                # 2-node line
+                if ntags < 1:
+                    raise InputError(f"{path}: a boundary line without a physical label")
+                edges.append(nodes[:2])
+                labels_.append(words[3])
+    except (ValueError, IndexError, KeyError) as error:
+        raise InputError(f"{path}: not a readable gmsh MSH 2.2 file ({type(error).__name__}: {error})") from None
+    if not triangles:
+        raise InputError(f"{path}: no triangles")
+    return Mesh(xy, ids, np.array(triangles, dtype=int), np.array(edges, dtype=int).reshape(-1, 2),
+                np.array(labels_, dtype=int))
+
+
+@functools.lru_cache(maxsize=None)
+def _labels():
+    path = os.path.join(EDP, "lib", "forms.idp")
+    found = re.findall(r"^\s*int\s+(Gamma\w+)\s*=\s*(\d+)\s*;", "\n".join(read_lines(path)), re.MULTILINE)
+    if not found:
+        raise InputError(f"{path}: no 'int GammaNAME = LABEL;' lines")
+    return tuple((name, int(label)) for name, label in found)
+
+
+def labels():
+    """The boundary labels named in edp/lib/forms.idp, e.g. {"GammaContact": 1, ...}."""
+    return dict(_labels())
+
+
+# ---------------------------------------------------------------- options and scenes
+Option = collections.namedtuple("Option", "name type range default meaning")
+Option.__doc__ = "One option of edp/options.txt; default None where the scene gives it ('-')."
+Rule = collections.namedtuple("Rule", "option value name default")
+Rule.__doc__ = "A line 'when OPTION=VALUE NAME DEFAULT' of edp/options.txt."
+
+
+@functools.lru_cache(maxsize=None)
+def _option_table():
+    path = os.path.join(EDP, "options.txt")
+    options, rules = [], []
+    for number, line in enumerate(read_lines(path), 1):
+        words = line.split(None, 4)
+        if not words or line.startswith("#"):
+            continue
+        if words[0] == "when" and len(words) == 4 and "=" in words[1]:
+            option, _, value = words[1].partition("=")
+            rules.append(Rule(option, value, words[2], words[3]))
+        elif len(words) >= 4:
+            name, kind, bounds, default = words[:4]
+            options.append(Option(name, kind, bounds, None if default == "-" else default,
+                                  words[4] if len(words) > 4 else ""))
+        else:
+            raise InputError(f"{path}:{number}: cannot read '{line}'")
+    return tuple(options), tuple(rules)
+
+
+def option_table():
+    """The command-line options of edp/solve.edp from edp/options.txt: ({name: Option}
+    in the file's order, [Rule]). A Rule sets the default of Rule.name when the option
+    Rule.option has the value Rule.value and Rule.name was not given."""
+    options, rules = _option_table()
+    return {option.name: option for option in options}, list(rules)
+
+
+def scene_path(scene):
+    """The file of a scene: a name (paper, column) means edp/scenes/NAME.scene; a path
+    (with a '/' or ending in .scene) is the file itself, as for edp/solve.edp -scene."""
+    if "/" in scene or ".scene" in scene:
+        return scene
+    return os.path.join(EDP, "scenes", scene + ".scene")
+
+
+Scene = collections.namedtuple("Scene", "path options data")
+Scene.__doc__ = """A scene file. options: the defaults it sets (a line 'NAME VALUE' whose NAME
+is an option, but not scene or out); data: its other lines, key -> list of the words after
+the key, one list per line (geometry, Lx, Ly, dirichlet, traction, contact_normal)."""
+
+
+@functools.lru_cache(maxsize=None)
+def _scene(path):
+    options = {name for name in option_table()[0] if name not in ("scene", "out")}
+    defaults, data = [], []
+    for line in read_lines(path):
+        words = line.split("#", 1)[0].split()
+        if not words:
+            continue
+        if len(words) == 2 and words[0] in options:
+            defaults.append((words[0], words[1]))
+        else:
+            data.append((words[0], tuple(words[1:])))
+    return tuple(defaults), tuple(data)
+
+
+def read_scene(scene):
+    """The scene of a name or a file (scene_path)."""
+    path = scene_path(scene)
+    defaults, data = _scene(path)
+    lines = {}
+    for key, words in data:
+        lines.setdefault(key, []).append(list(words))
+    return Scene(path, dict(defaults), lines)
+
+
+def effective_options(given, scene=None):
+    """The options a run used, as Values: the defaults of edp/options.txt, then those of the
+    scene (the scene argument, else given["scene"], else the table's default), then the
+    given ones (name -> value as on the command line, without the '-'), then the 'when'
+    rules for the options not given. An option that has no value anywhere is left out."""
+    options, rules = option_table()
+    unknown = [name for name in given if name not in options]
+    if unknown:
+        raise InputError(f"unknown option -{unknown[0]} (options: {' '.join(options)})")
+    values = {name: option.default for name, option in options.items() if option.default is not None}
+    path = scene_path(scene or given.get("scene") or values["scene"])
+    values.update(read_scene(path).options)
+    values.update(given)
+    for rule in rules:
+        if rule.name not in given and values.get(rule.option) == rule.value:
+            values[rule.name] = rule.default
+    return Values(f"the options of a run (scene {path})", ((name, values[name]) for name in options if name in values))
+
+
+# ---------------------------------------------------------------- the solver's failure message
+SolverFailure = collections.namedtuple("SolverFailure", "step t iterations mode residual tol")
+FAILURE_MESSAGE = re.compile(r"step (\d+) \(t = ([^)]*)\): the contact solver did not converge after (\d+) "
+                             r"iterations \(([^)]*)\), residual (\S+) > tol ([^\s;]+)")
+
+
+def solver_failure(message):
+    """Parse the message of a step that failed (edp/solve.edp, exit 4 or 5), a contract of
+    docs/design.md, "Exit codes and failure messages": 'error: step N (t = T): the contact
+    solver did not converge after I iterations (MODE), residual R > tol TOL; no results
+    written'. Returns
+    SolverFailure(step, t, iterations, mode, residual, tol), or None when the message is
+    not that one. MODE says why, e.g. 'iteration cap reached', 'non-finite residual'."""
+    match = FAILURE_MESSAGE.search(message or "")
+    if not match:
+        return None
+    step, t, iterations, mode, residual, tol = match.groups()
+    try:
+        return SolverFailure(int(step), float(t), int(iterations), mode, float(residual), float(tol))
+    except ValueError:
+        return None
+
+
+# ---------------------------------------------------------------- figures
+STYLE = {
+    "figure.figsize": (11, 4),
+    "figure.dpi": 100,
+    "axes.grid": True,
+    "grid.alpha": 0.3,
+    "font.size": 9,
+    "lines.linewidth": 1.2,
+    "lines.markersize": 3,
+}
+
+
+def pyplot(overrides=None):
+    """matplotlib.pyplot on the Agg backend (files only, never a window), with STYLE and
+    then the overrides (rcParams) applied."""
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    plt.rcParams.update(STYLE)
+    plt.rcParams.update(overrides or {})
+    return plt
+
+
+def save(fig, out, name, tight_layout=True):
+    """Write the figure to OUT/NAME.png (OUT made if needed), close it, return the path."""
+    import matplotlib.pyplot as plt
+    os.makedirs(out, exist_ok=True)
+    path = os.path.join(out, name + ".png")
+    if tight_layout:
+        fig.tight_layout()
+    fig.savefig(path)
+    plt.close(fig)
+    return path

@@ -33,13 +33,14 @@ missing_dependencies() { # missing_dependencies [solve]: "solve" skips what only
 # The compiled kernel (edp/plugins/contactkernel.cpp, a FreeFEM plugin): built with g++
 # against FreeFEM's headers (libfreefem++-dev) and CHOLMOD (libsuitesparse-dev).
 KERNEL_SOURCE="$here/edp/plugins/contactkernel.cpp"
+KERNEL_LAW="$here/edp/plugins/contactlaw.hpp"     # the nodal laws: a change rebuilds the kernel
 KERNEL="$here/edp/plugins/build/contactkernel.so"
 kernel_buildable() {
   command -v g++ >/dev/null 2>&1 && [ -f /usr/include/freefem++/ff++.hpp ] && [ -f /usr/include/suitesparse/cholmod.h ] \
     && { [ -e /usr/lib/x86_64-linux-gnu/liblapack.so ] || [ -e /usr/lib/liblapack.so ]; }
 }
 build_kernel() { # (re)build the plugin when it is missing or older than its source
-  [ -f "$KERNEL" ] && [ "$KERNEL" -nt "$KERNEL_SOURCE" ] && return 0
+  [ -f "$KERNEL" ] && [ "$KERNEL" -nt "$KERNEL_SOURCE" ] && [ "$KERNEL" -nt "$KERNEL_LAW" ] && return 0
   mkdir -p "$(dirname "$KERNEL")"
   local tmp="$KERNEL.$$"
   if ! g++ -O2 -std=c++14 -fPIC -shared -DNDEBUG -Wno-deprecated-declarations -I/usr/include/freefem++ \

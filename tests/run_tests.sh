@@ -146,9 +146,9 @@ done
 # FreeFEM's UMFPACK, and its Newton against the script Newton of edp/lib/contact.idp
 diag="$work/kernel.diag"; : > "$diag"
 if "${FREEFEM[@]}" tests/kernel_check.edp > "$diag" 2>&1 && grep -q "kernel_check: all checks passed" "$diag"; then
-  report 0 "kernel: solve, Delassus matrix, both halves of the back-substitution = UMFPACK, products = FreeFEM, to 1e-12"
+  report 0 "kernel: solve, Delassus matrix, both halves of the back-substitution = UMFPACK, products and the record of a step = FreeFEM, to 1e-12"
 else
-  report 1 "kernel: solve, Delassus matrix, both halves of the back-substitution = UMFPACK, products = FreeFEM, to 1e-12" "$diag"
+  report 1 "kernel: solve, Delassus matrix, both halves of the back-substitution = UMFPACK, products and the record of a step = FreeFEM, to 1e-12" "$diag"
 fi
 # calls in a wrong order stop with the kernel's message (FreeFEM's exit code 8 for an
 # execution error), never with a crash or stale data
@@ -163,9 +163,11 @@ while IFS='|' read -r misuse expected; do
   fi
 done <<'CASES'
 1|contactKernelSolve without a successful contactKernelFactorize
-2|contactKernelFinish: call contactKernelDelassus first
-3|contactKernelNewton: the factor changed since contactKernelLaws
-4|contactKernelRecordSetup: a slot number is outside
+2|contactKernelNewton: call contactKernelDelassus after the last contactKernelFactorize
+3|contactKernelFactorize: C has
+4|contactKernelNodes: slot numbers must be 0 .. slots-1, each used once
+5|contactKernelRecord: call contactKernelRecordStart
+6|contactKernelParameter: unknown parameter 'gravity'
 CASES
 for problem in original penalty; do
   diag="$work/script-$problem.diag"; : > "$diag"; status=0

@@ -1,6 +1,8 @@
 # check_msh22.awk: refuse a gmsh mesh file that edp/solve.edp cannot use, before
 # FreeFEM reads it (its reader aborts on degenerate triangles and silently re-meshes
-# a file without triangles). Usage: awk -f check_msh22.awk FILE.msh
+# a file without triangles). Usage (edp/lib/meshes.idp passes the labels of forms.idp, in
+# the order contact, right, traction, left):
+#   awk -v labels="1 2 3 4" -f check_msh22.awk FILE.msh
 # Prints one line: "ok", or what is wrong; exits 0 or 1.
 function fail(msg) { print msg; bad = 1; exit 1 }
 NR == 2 && section == "MeshFormat" { version = $1; binary = $2 }
@@ -30,17 +32,23 @@ section == "Elements" {
     if (area < 0) area = -area
     if (area <= 1e-12 * (xmax - xmin) * (ymax - ymin)) fail("triangle " $1 " (nodes " a " " b " " c ") has zero area")
   }
-  if ($2 == 1 && ntags >= 1) labels[$4] = 1
+  if ($2 == 1 && ntags >= 1) tags[$4] = 1
   next
 }
 END {
   if (bad) exit 1
+  if (labels == "") fail("check_msh22.awk: give the labels with -v labels=\"CONTACT RIGHT TRACTION LEFT\"")
   if (version == "") fail("not a gmsh mesh file (no $MeshFormat section)")
   if (version !~ /^2\.2/) fail("gmsh format " version ", not 2.2: re-export it with: gmsh -2 -format msh22 FILE.geo -o FILE.msh")
   if (binary != 0) fail("binary MSH file: re-export it as text with: gmsh -2 -format msh22 FILE.geo -o FILE.msh")
   if (!endNodes || !endElements) fail("truncated file: no $EndNodes or $EndElements")
   if (triangles == 0) fail("no triangle (does the .geo define a Physical Surface?)")
-  for (l = 1; l <= 4; l++) if (!(l in labels)) missing = missing " " l
-  if (missing != "") fail("no boundary line with physical tag" missing " (Physical Curve 1 contact, 2 right, 3 traction, 4 left are required)")
+  split(labels, needed, " ")
+  split("contact right traction left", role, " ")
+  for (l = 1; l <= 4; l++) {
+    if (!(needed[l] in tags)) missing = missing " " needed[l]
+    roles = roles (l > 1 ? ", " : "") needed[l] " " role[l]
+  }
+  if (missing != "") fail("no boundary line with physical tag" missing " (Physical Curve " roles " are required)")
   print "ok"
 }

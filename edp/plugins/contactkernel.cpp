@@ -1,57 +1,71 @@
-// contactkernel.cpp: the compiled kernel of edp/solve.edp's default solver (-solver newton).
-// A FreeFEM plugin (load "contactkernel"), built by ./run.sh into edp/plugins/build/.
+// contactkernel.cpp: the compiled kernel of edp/solve.edp, a FreeFEM plugin (load
+// "contactkernel") that ./run.sh builds into edp/plugins/build/ whenever this file or
+// contactlaw.hpp changes. docs/performance.md, "How a step is solved", explains the choices.
 //
-// What it does, and why it is compiled (README "Performance", issue 4):
-// 1. Linear algebra with one factorization of S. S = M/k + A + kB + C'W Kn C is symmetric
-//    positive definite (Dirichlet rows carry FreeFEM's tgv on the diagonal). It is factorized
-//    once by CHOLMOD (supernodal Cholesky, P S P' = L L') with an ordering (CAMD) that puts
-//    the contact degrees of freedom (those C touches) last. The trailing block L_CC of L is
-//    then the Cholesky factor of the Schur complement of S on Gamma3, so that
-//      - the Delassus matrix is C S^-1 C' = G'G with G = L_CC^-1 (P C')_C: no solve per slot;
-//      - one back-substitution is split in two halves around the contact solve: the forward
-//        sweep z = L^-1 P b gives the free slot velocities c_free = C S^-1 b (a dense solve
-//        with L_CC' on the trailing block), and, once the contact stresses are known, the
-//        contact load only changes the trailing block of z, so the backward sweep
-//        v = P' L^-T z' finishes the step. A time step costs one back-substitution.
-// 2. The semismooth Newton on the condensed equations: the same iteration, pieces, residual,
-//    line search and cycle guard as the script version in edp/lib/contact.idp (see the
-//    comments there for the nodal laws); in compiled code the per-slot loops cost nothing.
-//    The script version runs the fixed point and the full-system Newton (-solver full),
-//    which the tests compare with this kernel.
-// 3. The record of a step (the energy terms of history.txt, the forces, zones and x_B, x_C
-//    of contact_history.txt), for the same reason: on the paper mesh FreeFEM's interpreter
-//    spent as long on them as the back-substitution takes. Script version: -kernel script.
+// 1. Linear algebra with one factorization of S = M/k + A + kB + C'W Kn C (symmetric
+//    positive definite; Dirichlet rows carry FreeFEM's tgv). CHOLMOD factorizes P S P' = L L'
+//    with an ordering (CAMD) that puts the contact degrees of freedom (those C touches) last,
+//    so the trailing block L_CC of L is the Cholesky factor of the Schur complement of S on
+//    Gamma3:
+//      - the Delassus matrix C S^-1 C' = G'G with G = L_CC^-1 (P C')_C, no solve per slot;
+//      - a back-substitution splits in two halves around the contact solve: the forward
+//        sweep z = L^-1 P b gives the free slot velocities c_free = C S^-1 b, and the contact
+//        load only changes the trailing block of z before the backward sweep v = P' L^-T z.
+// 2. The nodal laws: contactlaw.hpp, the one definition. The solvers of a step use it
+//    through the Slots object below: the semismooth Newton of contactKernelNewton, and the
+//    script solvers of edp/lib/solvers.idp through contactLawEvaluate / contactLawRelations /
+//    contactNewtonGuard / contactNewtonAccept / contactNewtonEnd.
+// 3. The record of a step (the energy terms of history.txt, the forces, zones, x_B, x_C of
+//    contact_history.txt) and the nodal values of contact.txt, from the same statuses.
 //
-// FreeFEM functions (int = FreeFEM int; 0 means success unless said):
-//   contactKernelFactorize(matrix S, matrix C)   factorize S, C's columns ordered last;
-//       returns 0, or 1 (S not positive definite), 2 (CHOLMOD failed), 3 (bad sizes)
-//   contactKernelDelassus(real[int] W, real[int,int] Dw)   Dw = C S^-1 C' diag(W)
-//   contactKernelSolve(real[int] b, real[int] x)            x = S^-1 b (one back-substitution)
-//   contactKernelFree(real[int] b, real[int] cFree)         cFree = C S^-1 b (forward half)
-//   contactKernelFinish(real[int] m, real[int] v)           v = S^-1 (b - C' diag(W) m) for
-//       the b of the last contactKernelFree (backward half)
-//   contactKernelProducts(matrix M, matrix A, matrix B)   keep M, A, B (one pattern) for:
-//   contactKernelMultiply(real[int] v, real[int] Mv, real[int] Av, real[int] Bv)  three products
-//   contactKernelRecordSetup(real[int] f, real[int] nodeX, real[int] nodeW, int[int] normalSlot,
-//       int[int] tangentSlot, real[int] [g, none])   the data of contactKernelRecord:
-//   contactKernelRecord(real[int] v, real[int] vOld, real[int] u, real[int] Lambda, real[int] Mv,
-//       real[int] Bu, real[int] record)   the energy terms, the energy balance and the nodal
-//       quantities of a step; returns 0, or 1 if the balance is not finite (see stepRecord)
-//   contactKernelLaws(int[int] kind, int[int] partner, real[int] r, real[int] p)  the laws:
-//       kind 0 normal / 1 tangential, partner = normal slot of a tangential slot (-1 none),
-//       r = augmentation per slot, p = [cnu, g, mu, eps, penalty, literal, tol, maxit,
-//       safeguards, forceScale]
-//   contactKernelNewton(real[int] cFree, real[int] c, real[int] m, real[int] info)
-//       one step's Newton, warm-started from (c, m); returns the iteration count, or -1
-//       (no convergence); info = [residual, iterations, line-search cuts, augmentation
-//       halvings, Newton matrix factorizations, low-rank corrections] (the last four summed
-//       over the run)
+// FreeFEM functions (they return 0 unless said; misuse stops the run with an error):
+//   contactKernelParameter(string name, real value)  a parameter, by its option name: cnu, mu,
+//       eps, problem (0 original, 1 penalty), penaltyform (0 compliant, 1 literal), tol, maxit,
+//       safeguard (0/1), r, dt
+//   contactKernelNodes(real[int] x, real[int] w, real[int] g, int[int] normalSlot,
+//       int[int] tangentSlot)  the contact nodes (sorted by x): weight, velocity bound, slots
+//       (-1: none); returns 1 if the damped response of contactlaw.hpp is unusable (the
+//       reason is printed on stderr)
+//   contactKernelDampingSlope(real[int] Kn)   Kn per slot (p'(g) on normal slots), folded into S
+//   contactKernelFactorize(matrix S, matrix C)   returns 0, or 1 (S not positive definite),
+//       2 (CHOLMOD failed)
+//   contactKernelDelassus(real[int,int] Dw)   Dw = C S^-1 C' diag(W); sets r_j = r / Dw_jj
+//   contactKernelAugmentation(real[int] r)    other r_j (the fixed point's)
+//   contactKernelSolve(real[int] b, real[int] x)    x = S^-1 b
+//   contactKernelFree(real[int] b, real[int] cFree)  cFree = C S^-1 b (forward half)
+//   contactKernelFinish(real[int] m, real[int] v)    v = S^-1 (b - C'W m), b of the last Free
+//   contactKernelProducts(matrix M, matrix A, matrix B)   keep M, A, B for:
+//   contactKernelMultiply(real[int] v, real[int] Mv, real[int] Av, real[int] Bv)
+//   contactKernelRecordStart(real[int] v0, real[int] u0, real[int] Mv, real[int] Bu)
+//       the initial state of the energy balance; Mv = M v0, Bu = B u0
+//   contactKernelRecord(real[int] v, real[int] u, real[int] Lambda, real[int] f, real[int] Mv,
+//       real[int] Bu, real[int] record)   the record of a step (see stepRecord); returns 1 if
+//       the energy balance is not finite
+//   contactKernelNodal(real[int] v, real[int] Lambda, real[int,int] table)  per node: v_nu,
+//       v_tau, p_nu, lambda_nu, lambda_tau, normal_status, tangential_status, friction_bound,
+//       force scale p(g), zone
+//   contactKernelNewton(real[int] cFree, real[int] c, real[int] m, real[int] info)  one step's
+//       Newton from (c, m); returns the iterations, or -1; info = [residual, iterations]
+//   contactLawEvaluate(real[int] c, real[int] m, real[int] target)  returns the natural
+//       residual at (c, m); target = the stresses the pieces give
+//   contactLawRelations(real[int] c, real[int] a, real[int] d, real[int] h, int[int] slot)
+//   contactLawMerit()   the 2-norm of the weighted residual of the last evaluation
+//   contactNewtonGuard(int it)   the cycle guard (halves r on a repeat); returns 1 if it did
+//   contactNewtonAccept(real merit, real step, int cut)   the line search's test; 1 = accept
+//   contactNewtonEnd()   restores r after a step
+//   contactKernelCounters(real[int] info)   [line-search cuts, augmentation halvings, Newton
+//       matrix factorizations, low-rank corrections], over the run
+//   contactKernelWallClock()   wall-clock seconds (steady clock)
 #include "ff++.hpp"
 #include "AFunction_ext.hpp"
 #include <cholmod.h>
+#include <chrono>
+#include <iostream>
+#include <string>
 #include <vector>
 #include <cmath>
 #include <algorithm>
+#include "contactlaw.hpp"
 
 extern "C" {
 void dtrsv_(const char *uplo, const char *trans, const char *diag, const int *n, const double *a,
@@ -70,6 +84,92 @@ void dgetrs_(const char *trans, const int *n, const int *nrhs, const double *a, 
 }
 
 namespace {
+using namespace contactlaw;
+
+// ---------------------------------------------------------------- the contact nodes and the law
+struct Contact {
+  std::vector<double> nodeX, nodeW, nodeG;
+  std::vector<int> normalSlot, tangentSlot;    // per node, -1: none
+  std::vector<double> weight;                  // W per slot: its node's weight
+  bool ready = false;
+};
+Contact N;
+Slots L;                                       // the law on every slot (contactlaw.hpp)
+
+struct SolverParameters {
+  double tol = 1e-10, r = 1, dt = 0;
+  int maxit = 50;
+  bool safeguards = true;
+};
+SolverParameters SP;
+
+long parameter(string *const &name, const double &value) {
+  const std::string &key = *name;
+  if (key == "cnu") L.P.cnu = value;
+  else if (key == "mu") L.P.mu = value;
+  else if (key == "eps") L.P.eps = value;
+  else if (key == "problem") L.P.penalty = value != 0;
+  else if (key == "penaltyform") L.P.literal = value != 0;
+  else if (key == "tol") SP.tol = value;
+  else if (key == "maxit") SP.maxit = (int)value;
+  else if (key == "safeguard") SP.safeguards = value != 0;
+  else if (key == "r") SP.r = value;
+  else if (key == "dt") SP.dt = value;
+  else ExecError("contactKernelParameter: unknown parameter '" + key + "'");
+  N.ready = false;                             // the slots must be set again from the new law
+  return 0;
+}
+
+long nodes(KN<double> *const &px, KN<double> *const &pw, KN<double> *const &pg, KN<long> *const &pns,
+           KN<long> *const &pts) {
+  KN<double> &x = *px, &w = *pw, &g = *pg;
+  KN<long> &ns = *pns, &ts = *pts;
+  const int nn = x.N();
+  if (w.N() != nn || g.N() != nn || ns.N() != nn || ts.N() != nn) ExecError("contactKernelNodes: wrong argument sizes");
+  int slots = 0;
+  for (int i = 0; i < nn; i++) slots += (ns[i] >= 0) + (ts[i] >= 0);
+  std::vector<int> owner(slots, -1);
+  for (int i = 0; i < nn; i++)
+    for (long s : {ns[i], ts[i]})
+      if (s >= 0) {
+        if (s >= slots || owner[s] >= 0) ExecError("contactKernelNodes: slot numbers must be 0 .. slots-1, each used once");
+        owner[s] = i;
+      }
+  N = Contact();
+  N.nodeX.resize(nn); N.nodeW.resize(nn); N.nodeG.resize(nn); N.normalSlot.resize(nn); N.tangentSlot.resize(nn);
+  for (int i = 0; i < nn; i++) {
+    N.nodeX[i] = x[i]; N.nodeW[i] = w[i]; N.nodeG[i] = g[i]; N.normalSlot[i] = ns[i]; N.tangentSlot[i] = ts[i];
+  }
+  N.weight.assign(slots, 0.);
+  L.resize(slots);
+  for (int i = 0; i < nn; i++) {
+    if (!(g[i] > 0)) ExecError("contactKernelNodes: every velocity bound g must be > 0");
+    if (ts[i] >= 0) { L.normal[ts[i]] = 0; L.partner[ts[i]] = ns[i]; }
+    for (long s : {ns[i], ts[i]}) if (s >= 0) N.weight[s] = w[i];
+  }
+  for (int j = 0; j < slots; j++) { L.setBound(j, g[owner[j]]); L.setAugmentation(j, SP.r); }
+  std::string why;
+  for (int i = 0; i < nn; i++)
+    if (checkDampedResponse(L.P, g[i], why)) {
+      std::cerr << "error: the damped response of edp/plugins/contactlaw.hpp cannot be used: " << why
+                << " (c_nu = " << L.P.cnu << ", g = " << g[i] << ")" << std::endl;
+      return 1;
+    }
+  N.ready = true;
+  return 0;
+}
+
+void requireNodes(const char *who) {
+  if (!N.ready) ExecError(std::string(who) + ": call contactKernelNodes first (after the last contactKernelParameter)");
+}
+
+long dampingSlope(KN<double> *const &pKn) {
+  requireNodes("contactKernelDampingSlope");
+  KN<double> &Kn = *pKn;
+  Kn.resize(L.n);
+  for (int j = 0; j < L.n; j++) Kn[j] = L.Kn[j];
+  return 0;
+}
 
 // ---------------------------------------------------------------- linear algebra state
 struct Factor {
@@ -81,20 +181,19 @@ struct Factor {
   std::vector<double> Ltrail;           // L_CC, nt x nt, column-major, lower triangular
   std::vector<int> slotOf, posOf, dofOf; // C as triplets: slot, trailing position (dof), value
   std::vector<double> valOf;
-  std::vector<double> weight;           // W per slot (set by contactKernelDelassus)
   std::vector<double> z;                // forward sweep of the last contactKernelFree
-  std::vector<double> Dw;               // nc x nc, column-major
+  std::vector<double> Dw;               // nc x nc, column-major (contactKernelDelassus)
   bool haveForward = false;
   long generation = 0;                  // counts the calls of contactKernelFactorize
+  long delassusGeneration = -1;         // the factor Dw belongs to
 
-  // forget the factor and everything derived from it (the weights and Dw of
-  // contactKernelDelassus too: they belong to this factor's C); L is then null, so a factor
-  // exists (L != null) only after a successful contactKernelFactorize
+  // forget the factor and everything derived from it; L is then null, so a factor exists
+  // (L != null) only after a successful contactKernelFactorize
   void release() {
     haveForward = false;
     n = nc = nt = 0;
     Ltrail.clear(); slotOf.clear(); posOf.clear(); dofOf.clear(); valOf.clear();
-    weight.clear(); z.clear(); Dw.clear();
+    z.clear(); Dw.clear();
     if (!started) return;
     if (L) cholmod_free_factor(&L, &common);
     if (work) cholmod_free_dense(&work, &common);
@@ -121,20 +220,24 @@ MatriceMorse<double> *morse(Matrice_Creuse<double> *A) {
   return m;
 }
 
-long factorizeOrFail(Matrice_Creuse<double> *const &pS, Matrice_Creuse<double> *const &pC);
+long factorizeOrFail(MatriceMorse<double> &S, MatriceMorse<double> &C);
 
 // On any failure the kernel is left with no factor, so that a later call raises an error.
 long factorize(Matrice_Creuse<double> *const &pS, Matrice_Creuse<double> *const &pC) {
+  requireNodes("contactKernelFactorize");
+  MatriceMorse<double> &S = *morse(pS), &C = *morse(pC);
+  if (S.n != S.m || C.m != S.n) ExecError("contactKernelFactorize: S must be square, with as many columns as C");
+  if (C.n != L.n)
+    ExecError("contactKernelFactorize: C has " + std::to_string(C.n) + " rows, but contactKernelNodes gave "
+              + std::to_string(L.n) + " slots");
   F.release();
   F.generation++;
-  const long status = factorizeOrFail(pS, pC);
+  const long status = factorizeOrFail(S, C);
   if (status != 0) F.release();
   return status;
 }
 
-long factorizeOrFail(Matrice_Creuse<double> *const &pS, Matrice_Creuse<double> *const &pC) {
-  MatriceMorse<double> &S = *morse(pS), &C = *morse(pC);
-  if (S.n != S.m || C.m != S.n) return 3;
+long factorizeOrFail(MatriceMorse<double> &S, MatriceMorse<double> &C) {
   const int n = S.n;
   cholmod_start(&F.common);
   F.started = true;
@@ -182,7 +285,6 @@ long factorizeOrFail(Matrice_Creuse<double> *const &pS, Matrice_Creuse<double> *
   for (int i = 0; i < n; i++) nt += member[i];
   F.nt = nt;
   for (int i = 0; i < n; i++) if (member[i] && position[i] < n - nt) return 2;
-  F.slotOf.clear(); F.posOf.clear(); F.valOf.clear(); F.dofOf.clear();
   for (size_t k = 0; k < C.nnz; k++) if (C.aij[k] != 0) {
     F.slotOf.push_back(C.i[k]); F.posOf.push_back(position[C.j[k]] - (n - nt)); F.valOf.push_back(C.aij[k]);
     F.dofOf.push_back(C.j[k]);
@@ -212,16 +314,16 @@ long factorizeOrFail(Matrice_Creuse<double> *const &pS, Matrice_Creuse<double> *
 }
 
 void requireFactor(const char *who) {
-  if (!F.L)
-    ExecError(std::string("contactkernel: ") + who + " without a successful contactKernelFactorize");
+  if (!F.L) ExecError(std::string("contactkernel: ") + who + " without a successful contactKernelFactorize");
+}
+void requireDelassus(const char *who) {
+  requireFactor(who);
+  if (F.delassusGeneration != F.generation)
+    ExecError(std::string(who) + ": call contactKernelDelassus after the last contactKernelFactorize");
 }
 
-long delassus(KN<double> *const &pW, KNM<double> *const &pDw) {
+long delassus(KNM<double> *const &pDw) {
   requireFactor("contactKernelDelassus");
-  KN<double> &W = *pW;
-  if (W.N() != F.nc) ExecError("contactKernelDelassus: W must have one entry per row of C");
-  F.weight.assign(W.N(), 0.);
-  for (int j = 0; j < F.nc; j++) F.weight[j] = W[j];
   const int nt = F.nt, nc = F.nc;
   // G = L_CC^-1 Ct (nt x nc), Ct = (P C')_C
   std::vector<double> G((size_t)nt * nc, 0.);
@@ -232,10 +334,22 @@ long delassus(KN<double> *const &pW, KNM<double> *const &pDw) {
   if (nt > 0 && nc > 0) dsyrk_("U", "T", &nc, &nt, &one, G.data(), &nt, &zero, D.data(), &nc);
   for (int j = 0; j < nc; j++) for (int i = j + 1; i < nc; i++) D[i + (size_t)j * nc] = D[j + (size_t)i * nc];
   F.Dw.assign((size_t)nc * nc, 0.);
-  for (int j = 0; j < nc; j++) for (int i = 0; i < nc; i++) F.Dw[i + (size_t)j * nc] = D[i + (size_t)j * nc] * F.weight[j];
+  for (int j = 0; j < nc; j++) for (int i = 0; i < nc; i++) F.Dw[i + (size_t)j * nc] = D[i + (size_t)j * nc] * N.weight[j];
+  F.delassusGeneration = F.generation;
   KNM<double> &Dw = *pDw;
   Dw.resize(nc, nc);
   for (int j = 0; j < nc; j++) for (int i = 0; i < nc; i++) Dw(i, j) = F.Dw[i + (size_t)j * nc];
+  // r_j = r / Dw_jj: the stress a unit velocity of slot j produces through the body, so that
+  // the default r = 1 fits any scene
+  for (int j = 0; j < nc; j++) L.setAugmentation(j, SP.r / F.Dw[j + (size_t)j * nc]);
+  return 0;
+}
+
+long augmentation(KN<double> *const &pr) {
+  requireNodes("contactKernelAugmentation");
+  KN<double> &r = *pr;
+  if (r.N() != L.n) ExecError("contactKernelAugmentation: one value per slot expected");
+  for (int j = 0; j < L.n; j++) L.setAugmentation(j, r[j]);
   return 0;
 }
 
@@ -280,14 +394,13 @@ long freeVelocity(KN<double> *const &pb, KN<double> *const &pc) {
 long finish(KN<double> *const &pm, KN<double> *const &pv) {
   requireFactor("contactKernelFinish");
   if (!F.haveForward) ExecError("contactKernelFinish: call contactKernelFree first");
-  if (F.weight.empty()) ExecError("contactKernelFinish: call contactKernelDelassus first");
   KN<double> &m = *pm, &v = *pv;
   if (m.N() != F.nc) ExecError("contactKernelFinish: one multiplier per slot expected");
   if (v.N() != F.n) v.resize(F.n);
   const int nt = F.nt, inc = 1;
   // the contact load changes the trailing block of z only: z_C -= L_CC^-1 (P C' W m)_C
   std::vector<double> load(nt, 0.);
-  for (size_t k = 0; k < F.slotOf.size(); k++) load[F.posOf[k]] += F.valOf[k] * F.weight[F.slotOf[k]] * m[F.slotOf[k]];
+  for (size_t k = 0; k < F.slotOf.size(); k++) load[F.posOf[k]] += F.valOf[k] * N.weight[F.slotOf[k]] * m[F.slotOf[k]];
   if (nt > 0) dtrsv_("L", "N", "N", &nt, F.Ltrail.data(), &nt, load.data(), &inc);
   double *work = static_cast<double *>(F.work->x);
   std::copy(F.z.begin(), F.z.end(), work);
@@ -302,9 +415,21 @@ long finish(KN<double> *const &pm, KN<double> *const &pv) {
 
 // The data of a FreeFEM array as a plain pointer (the loops below index it directly: through
 // KN's strided operator[] they take twice as long). Arrays declared in a script have step 1.
-static double *contiguous(KN<double> &a, const char *what) {
+double *contiguous(KN<double> &a, const char *what) {
   if (a.N() > 1 && a.step != 1) ExecError(what);
   return a.N() > 0 ? &a[0] : nullptr;
+}
+
+std::vector<double> copyOf(const KN<double> &a) {
+  std::vector<double> out(a.N());
+  for (int i = 0; i < a.N(); i++) out[i] = a[i];
+  return out;
+}
+
+// slot velocities C v (after a factorization: C is kept as triplets)
+void slotVelocities(const double *v, std::vector<double> &cv) {
+  cv.assign(F.nc, 0.);
+  for (size_t e = 0; e < F.slotOf.size(); e++) cv[F.slotOf[e]] += F.valOf[e] * v[F.dofOf[e]];
 }
 
 // ---------------------------------------------------------------- products with M, A, B
@@ -315,7 +440,6 @@ struct Products {
   std::vector<int> start, column;
   std::vector<double> values;       // 3 per entry: M, A, B
 
-  // Mx, Ax, Bx for x (all of size n)
   void apply(const double *x, double *mx, double *ax, double *bx) const {
     const double *val = values.data();
     const int *col = column.data();
@@ -380,87 +504,115 @@ long multiply(KN<double> *const &pv, KN<double> *const &pMv, KN<double> *const &
   return 0;
 }
 
-// ---------------------------------------------------------------- the record of a step
-// What history.txt and contact_history.txt keep of a step, computed in one call: the terms
-// of the discrete energy balance (DESIGN.md section 5) and the nodal quantities on Gamma3.
-// The script version, and the definitions, are in edp/solve.edp (-kernel script) and
-// nodalState in edp/lib/contact.idp; the tests compare the two.
-struct Record {
-  std::vector<double> f, nodeX, nodeW;  // unit traction; contact nodes sorted by x, weights
-  std::vector<int> normalSlot, tangentSlot;
-  double g = 0, none = 1e300;
-  std::vector<double> Mv, Av, Bv;       // workspace
-  double energyOld = 0;                 // kinetic + elastic of the previous step
-  long generation = -1;                 // the factor (F.generation) the slots belong to
-  bool ready = false;
+// ---------------------------------------------------------------- nodal values, the record
+// The values of node i from the slot velocities cv and the contact stresses Lam, with the
+// statuses of contactlaw.hpp (+ 0. turns -0 into 0).
+struct NodeValues {
+  double vn, vt, pn, ln, lt, bound;
+  int normal, tangential;
 };
-Record RC;
+NodeValues nodeValues(int i, const double *cv, const double *Lam) {
+  const int sn = N.normalSlot[i], st = N.tangentSlot[i];
+  NodeValues s;
+  s.vn = (sn >= 0 ? cv[sn] : 0.) + 0.;
+  s.vt = (st >= 0 ? cv[st] : 0.) + 0.;
+  s.pn = sn >= 0 ? Lam[sn] : 0.;
+  s.lt = st >= 0 ? Lam[st] : 0.;
+  s.ln = (sn >= 0 ? s.pn - dampedResponse(L.P, s.vn) : 0.) + 0.;
+  s.bound = frictionBound(L.P, s.vn);
+  s.normal = normalStatus(s.vn, N.nodeG[i]);
+  s.tangential = tangentialStatus(s.vt, N.nodeG[i]);
+  return s;
+}
 
-long recordSetup(KN<double> *const &pf, KN<double> *const &px, KN<double> *const &pw,
-                 KN<long> *const &pns, KN<long> *const &pts, KN<double> *const &pp) {
-  KN<double> &f = *pf, &x = *px, &w = *pw, &p = *pp;
-  KN<long> &ns = *pns, &ts = *pts;
-  const int nn = x.N();
-  if (w.N() != nn || ns.N() != nn || ts.N() != nn || p.N() != 2) ExecError("contactKernelRecordSetup: wrong argument sizes");
-  if (!F.L || F.weight.empty()) ExecError("contactKernelRecordSetup: call contactKernelFactorize and contactKernelDelassus first");
-  for (int i = 0; i < nn; i++)
-    if (ns[i] < -1 || ns[i] >= F.nc || ts[i] < -1 || ts[i] >= F.nc)
-      ExecError("contactKernelRecordSetup: a slot number is outside -1 .. (rows of C) - 1");
-  RC.f.assign(f.N(), 0.);
-  for (int i = 0; i < f.N(); i++) RC.f[i] = f[i];
-  RC.nodeX.resize(nn); RC.nodeW.resize(nn); RC.normalSlot.resize(nn); RC.tangentSlot.resize(nn);
-  for (int i = 0; i < nn; i++) { RC.nodeX[i] = x[i]; RC.nodeW[i] = w[i]; RC.normalSlot[i] = ns[i]; RC.tangentSlot[i] = ts[i]; }
-  RC.g = p[0]; RC.none = p[1];
-  RC.energyOld = 0;                     // u_0 = v_0 = 0
-  RC.generation = F.generation;
-  RC.ready = true;
+long nodal(KN<double> *const &pv, KN<double> *const &pLam, KNM<double> *const &ptable) {
+  requireNodes("contactKernelNodal");
+  requireFactor("contactKernelNodal");
+  KN<double> &v = *pv, &Lam = *pLam;
+  if (v.N() != F.n || Lam.N() != F.nc) ExecError("contactKernelNodal: wrong argument sizes");
+  std::vector<double> vv = copyOf(v), lam = copyOf(Lam), cv;
+  slotVelocities(vv.data(), cv);
+  KNM<double> &table = *ptable;
+  const int nn = N.nodeX.size();
+  table.resize(nn, 10);
+  for (int i = 0; i < nn; i++) {
+    const NodeValues s = nodeValues(i, cv.data(), lam.data());
+    const int sn = N.normalSlot[i] >= 0 ? N.normalSlot[i] : N.tangentSlot[i];
+    const double row[10] = {s.vn, s.vt, s.pn, s.ln, s.lt, (double)s.normal, (double)s.tangential, s.bound,
+                            L.forceScale[sn], (double)zone(s.normal, s.tangential)};
+    for (int k = 0; k < 10; k++) table(i, k) = row[k];
+  }
   return 0;
 }
 
-// In: v = v_n, vOld = v_{n-1}, u = u_n, Lam (total contact stress per slot), Mv = M v_{n-1},
-// Bu = B u_{n-1}, record[0] = k, record[1] = the load factor of f_n (load * t).
-// Out: Mv = M v_n and Bu = B u_n (for the next right-hand side) and record = [kinetic,
-// elastic, numerical_dissipation, viscous_dissipation, contact_dissipation, external_work,
-// energy_residual, kinetic_jump, elastic_jump, normal_force, tangential_force, the five zone
-// counts, x_B, x_C] (the columns of history.txt and contact_history.txt). The balance uses
-// kinetic + elastic of the previous call (0 after contactKernelRecordSetup: u_0 = v_0 = 0).
-long stepRecord(KN<double> *const &pv, KN<double> *const &pvOld, KN<double> *const &pu, KN<double> *const &pLam,
-                KN<double> *const &pMv, KN<double> *const &pBu, KN<double> *const &prec) {
-  if (P3.n == 0 || !RC.ready || !F.L || RC.generation != F.generation)
-    ExecError("contactKernelRecord: call contactKernelProducts, contactKernelDelassus and contactKernelRecordSetup (after the last contactKernelFactorize) first");
-  KN<double> &v = *pv, &vOld = *pvOld, &u = *pu, &Lam = *pLam, &Mv = *pMv, &Bu = *pBu, &rec = *prec;
+struct Record {
+  std::vector<double> vOld, Mv, Av, Bv;  // v_{n-1}; workspace
+  double energyOld = 0;                  // kinetic + elastic of the previous step
+  long generation = -1;                  // the factor (F.generation) the record started with
+};
+Record RC;
+
+long recordStart(KN<double> *const &pv0, KN<double> *const &pu0, KN<double> *const &pMv, KN<double> *const &pBu) {
+  requireNodes("contactKernelRecordStart");
+  requireFactor("contactKernelRecordStart");
+  if (P3.n == 0) ExecError("contactKernelRecordStart: call contactKernelProducts first");
+  KN<double> &v0 = *pv0, &u0 = *pu0, &Mv = *pMv, &Bu = *pBu;
   const int n = P3.n;
-  if (v.N() != n || vOld.N() != n || u.N() != n || (int)RC.f.size() != n || Lam.N() != F.nc || rec.N() < 2)
+  if (v0.N() != n || u0.N() != n || F.n != n) ExecError("contactKernelRecordStart: wrong argument sizes");
+  RC.vOld = copyOf(v0);
+  RC.Mv.resize(n); RC.Av.resize(n); RC.Bv.resize(n);
+  std::vector<double> u = copyOf(u0), Mu(n);
+  Mv.resize(n); Bu.resize(n);
+  P3.apply(RC.vOld.data(), RC.Mv.data(), RC.Av.data(), RC.Bv.data());
+  double kinetic = 0;
+  for (int i = 0; i < n; i++) { Mv[i] = RC.Mv[i]; kinetic += 0.5 * RC.vOld[i] * RC.Mv[i]; }
+  P3.apply(u.data(), Mu.data(), RC.Av.data(), RC.Bv.data());
+  double elastic = 0;
+  for (int i = 0; i < n; i++) { Bu[i] = RC.Bv[i]; elastic += 0.5 * u[i] * RC.Bv[i]; }
+  RC.energyOld = kinetic + elastic;
+  RC.generation = F.generation;
+  return 0;
+}
+
+// In: v = v_n, u = u_n, Lam (total contact stress per slot), f = f_n (the load of the step),
+// Mv = M v_{n-1}, Bu = B u_{n-1}. Out: Mv = M v_n and Bu = B u_n (for the next right-hand
+// side) and record = [kinetic, elastic, numerical_dissipation, viscous_dissipation,
+// contact_dissipation, external_work, energy_residual, kinetic_jump, elastic_jump,
+// normal_force, tangential_force, the five zone counts, x_B, x_C] (the columns of history.txt
+// and contact_history.txt; 1e300 for an x_B or x_C that does not exist). The discrete energy
+// balance (docs/design.md, section "Energy balance"), test function w = v_n:
+//   E_n - E_{n-1} + 1/2 m(v_n - v_{n-1}) + k^2/2 b(v_n) + k a(v_n) + k (C'W Lam)'v_n = k f_n'v_n
+long stepRecord(KN<double> *const &pv, KN<double> *const &pu, KN<double> *const &pLam, KN<double> *const &pf,
+                KN<double> *const &pMv, KN<double> *const &pBu, KN<double> *const &prec) {
+  if (RC.generation != F.generation || !F.L) ExecError("contactKernelRecord: call contactKernelRecordStart (after the last contactKernelFactorize) first");
+  KN<double> &v = *pv, &u = *pu, &Lam = *pLam, &f = *pf, &Mv = *pMv, &Bu = *pBu, &rec = *prec;
+  const int n = P3.n;
+  if (v.N() != n || u.N() != n || f.N() != n || Mv.N() != n || Bu.N() != n || Lam.N() != F.nc)
     ExecError("contactKernelRecord: wrong argument sizes");
-  const double k = rec[0], loadFactor = rec[1];
-  if (Mv.N() != n || Bu.N() != n) ExecError("contactKernelRecord: wrong size of Mv or Bu");
-  // three products in one pass; as in the script version, M (v_n - v_{n-1}) = M v_n - M v_{n-1}
-  // and B u_n = B u_{n-1} + k B v_n (u_n = u_{n-1} + k v_n), so no product with vOld or u
+  const double k = SP.dt;
+  // three products in one pass; M (v_n - v_{n-1}) = M v_n - M v_{n-1} and B u_n = B u_{n-1} + k B v_n
+  // (u_n = u_{n-1} + k v_n), so no product with v_{n-1} or u
   const char *strided = "contactKernelRecord: arrays must be contiguous";
-  const double *pv0 = contiguous(v, strided), *pvOld0 = contiguous(vOld, strided), *pu0 = contiguous(u, strided);
+  const double *pv0 = contiguous(v, strided), *pu0 = contiguous(u, strided), *pf0 = contiguous(f, strided);
   double *pMv0 = contiguous(Mv, strided), *pBu0 = contiguous(Bu, strided);
-  const double *f = RC.f.data();
-  std::vector<double> &m = RC.Mv, &a = RC.Av, &b = RC.Bv;
-  m.resize(n); a.resize(n); b.resize(n);
+  std::vector<double> &m = RC.Mv, &a = RC.Av, &b = RC.Bv, &vOld = RC.vOld;
   P3.apply(pv0, m.data(), a.data(), b.data());
   double vMv = 0, vAv = 0, vBv = 0, dvMdv = 0, uBu = 0, fv = 0;
   for (int i = 0; i < n; i++) {
     const double vi = pv0[i], bu = pBu0[i] + k * b[i];
-    vMv += vi * m[i]; vAv += vi * a[i]; vBv += vi * b[i]; dvMdv += (vi - pvOld0[i]) * (m[i] - pMv0[i]);
+    vMv += vi * m[i]; vAv += vi * a[i]; vBv += vi * b[i]; dvMdv += (vi - vOld[i]) * (m[i] - pMv0[i]);
     uBu += pu0[i] * bu;
-    fv += f[i] * vi;
-    pMv0[i] = m[i]; pBu0[i] = bu;
+    fv += pf0[i] * vi;
+    pMv0[i] = m[i]; pBu0[i] = bu; vOld[i] = vi;
   }
-  // slot velocities C v, and the contact term (C' W Lambda)' v
-  std::vector<double> cv(F.nc, 0.);
-  for (size_t e = 0; e < F.slotOf.size(); e++) cv[F.slotOf[e]] += F.valOf[e] * pv0[F.dofOf[e]];
+  std::vector<double> cv;
+  slotVelocities(pv0, cv);
   double contact = 0;
-  for (int j = 0; j < F.nc; j++) contact += F.weight[j] * Lam[j] * cv[j];
+  for (int j = 0; j < F.nc; j++) contact += N.weight[j] * Lam[j] * cv[j];
   if (rec.N() != 18) rec.resize(18);
   const double kinetic = 0.5 * vMv, elastic = 0.5 * uBu, kineticJump = 0.5 * dvMdv, elasticJump = 0.5 * k * k * vBv;
-  const double viscous = k * vAv, contactWork = k * contact, external = k * loadFactor * fv;
+  const double viscous = k * vAv, contactWork = k * contact, external = k * fv;
   const double numerical = kineticJump + elasticJump;
-  // the balance, as in edp/solve.edp
   const double balance = kinetic + elastic - RC.energyOld + numerical + viscous + contactWork - external;
   const double largest = std::max({std::fabs(kinetic), std::fabs(elastic), std::fabs(RC.energyOld), numerical,
                                    viscous, std::fabs(contactWork), std::fabs(external)});
@@ -468,20 +620,16 @@ long stepRecord(KN<double> *const &pv, KN<double> *const &pvOld, KN<double> *con
   rec[0] = kinetic; rec[1] = elastic; rec[2] = numerical; rec[3] = viscous; rec[4] = contactWork;
   rec[5] = external; rec[6] = largest > 0 ? std::fabs(balance) / largest : 0.; rec[7] = kineticJump;
   rec[8] = elasticJump;
-  // nodal quantities: the statuses and zones of nodalState (edp/lib/contact.idp)
-  double normalForce = 0, tangentialForce = 0, xB = RC.none, xC = RC.none;
+  std::vector<double> lam = copyOf(Lam);
+  double normalForce = 0, tangentialForce = 0, xB = 1e300, xC = 1e300;
   long zones[5] = {0, 0, 0, 0, 0};
-  for (size_t i = 0; i < RC.nodeX.size(); i++) {
-    int sn = RC.normalSlot[i], st = RC.tangentSlot[i];
-    double vn = sn >= 0 ? cv[sn] : 0., vt = st >= 0 ? cv[st] : 0.;
-    double pn = sn >= 0 ? Lam[sn] : 0., lt = st >= 0 ? Lam[st] : 0.;
-    int normalStatus = vn <= 0 ? 0 : (vn >= RC.g * (1 - 1e-6) ? 2 : 1);
-    int tangentStatus = std::fabs(vt) <= 1e-6 * RC.g ? 0 : 1;
-    zones[normalStatus > 0 ? 2 * normalStatus - tangentStatus : 0]++;
-    if (normalStatus == 2) xB = std::min(xB, RC.nodeX[i]);
-    if (normalStatus > 0 && tangentStatus == 0) xC = std::min(xC, RC.nodeX[i]);
-    normalForce += RC.nodeW[i] * pn;
-    tangentialForce += RC.nodeW[i] * lt;
+  for (size_t i = 0; i < N.nodeX.size(); i++) {
+    const NodeValues s = nodeValues(i, cv.data(), lam.data());
+    zones[zone(s.normal, s.tangential)]++;
+    if (s.normal == 2) xB = std::min(xB, N.nodeX[i]);
+    if (s.normal > 0 && s.tangential == 0) xC = std::min(xC, N.nodeX[i]);
+    normalForce += N.nodeW[i] * s.pn;
+    tangentialForce += N.nodeW[i] * s.lt;
   }
   rec[9] = normalForce; rec[10] = tangentialForce;
   for (int z = 0; z < 5; z++) rec[11 + z] = zones[z];
@@ -489,128 +637,31 @@ long stepRecord(KN<double> *const &pv, KN<double> *const &pvOld, KN<double> *con
   return std::isfinite(balance) ? 0 : 1;
 }
 
-// ---------------------------------------------------------------- the nodal laws and Newton
-// Same pieces, relations, residual and safeguards as edp/lib/contact.idp (classifyContact,
-// contactRelations, solveContactCondensed); see the comments there.
-struct Laws {
-  int nc = 0;
-  std::vector<int> isNormal, partner;          // partner: normal slot of a tangential slot, -1 none
-  std::vector<double> damping, r, rDefault, threshold, residualWeight;
-  double cnu = 0, g = 0, mu = 0, eps = 0, forceScale = 1, tol = 0;
-  int penalty = 0, literal = 0, maxit = 0, safeguards = 1;
-  double pieceA[5], pieceD[5], pieceH[5], kappa = 0;
-  std::vector<double> keyWeight;
-  // state of an iterate
-  std::vector<double> stress, yv, bound, target, mismatch;
-  std::vector<int> piece, key;
-  // relations
-  std::vector<double> velocityCoef, stressCoef, relationRhs;
-  std::vector<int> velocitySlot;
-  // The Newton matrix N, row j = -velocityCoef[j] Dw(velocitySlot[j], :) + stressCoef[j] e_j'.
-  // A base matrix N0 (rows baseA, baseD, baseS) is LU-factorized; the matrix of other
-  // pieces differs from N0 in a few rows R only (the pieces that changed), so it is solved
-  // with N0's factors and a rank-|R| (Woodbury) correction: N = N0 + E_R Delta,
-  //   N^-1 b = x0 - Y K^-1 Delta x0,  x0 = N0^-1 b,  Y = N0^-1 E_R,  K = I + Delta Y.
-  // N0 is re-factorized when |R| exceeds nc/8 (the correction would cost more than a
-  // quarter of a factorization), or when a corrected solve fails its residual check.
+// ---------------------------------------------------------------- Newton
+// The Newton matrix N (nc x nc) of the relations a_j c[slot_j] + d_j m_j = h_j with
+// c = cFree - Dw m: row j = -a_j Dw(slot_j, :) + d_j e_j'. A base matrix N0 (its relations
+// baseA, baseD, baseS) is LU-factorized; a matrix whose relations differ from N0's in a few
+// rows R only is solved with N0's factors and a rank-|R| (Woodbury) correction:
+//   N = N0 + E_R Delta,  N^-1 b = x0 - Y K^-1 Delta x0,  x0 = N0^-1 b,  Y = N0^-1 E_R,  K = I + Delta Y.
+// N0 is re-factorized when |R| exceeds nc/8 (the correction would cost more than a quarter
+// of a factorization), or when a corrected solve fails its residual check.
+struct Newton {
   std::vector<double> N0, Y, Delta, K;
-  std::vector<int> pivots, Kpivots, newtonKey, changed, baseS;
-  std::vector<double> baseA, baseD;
+  std::vector<int> pivots, Kpivots, changed, baseS, preparedS;
+  std::vector<double> baseA, baseD, preparedA, preparedD;
   bool haveBase = false;
   long cuts = 0, halvings = 0, factorizations = 0, corrections = 0;
-  long generation = -1;                        // the factor (F.generation) these laws belong to
-  bool ready = false;
-
-  void setAugmentation(int j, double rj) {
-    r[j] = rj;
-    threshold[j] = (cnu + rj) * g;
-    residualWeight[j] = std::max(1. / forceScale, 1. / (rj * g));
-  }
-  double merit() const {
-    double s = 0;
-    for (int j = 0; j < nc; j++) s += mismatch[j] * mismatch[j];
-    return std::sqrt(s);
-  }
-  // pieces, targets and the weighted natural residual (max norm) at (c, m)
-  double classify(const double *c, const double *m) {
-    double worst = 0;
-    for (int j = 0; j < nc; j++) {
-      stress[j] = damping[j] * c[j] + m[j];
-      yv[j] = r[j] * c[j] + stress[j];
-      bound[j] = partner[j] >= 0 ? mu * cnu * std::max(c[partner[j]], 0.) : 0.;
-      double y = yv[j];
-      int p;
-      if (isNormal[j]) p = y <= 0 ? 0 : (y < threshold[j] ? 1 : 2);
-      else p = (bound[j] > 0 && std::fabs(y) <= bound[j]) ? 3 : 4;
-      piece[j] = p;
-      key[j] = 4 * p + (p == 4 ? 2 * (y > 0) + (bound[j] > 0) : 0);
-      double t;
-      if (p == 0) t = 0.;
-      else if (p == 1) t = cnu * y / (cnu + r[j]);
-      else if (p != 2) t = std::max(-bound[j], std::min(bound[j], y));
-      else t = penalty ? (kappa * y - r[j] * g / eps) / (kappa + r[j]) : y - r[j] * g;
-      target[j] = t;
-      mismatch[j] = (stress[j] - t) * residualWeight[j];
-      worst = std::max(worst, std::fabs(mismatch[j]));
-      if (std::isnan(mismatch[j])) worst = mismatch[j];
-    }
-    return worst;
-  }
-  void relations() {
-    for (int j = 0; j < nc; j++) {
-      int p = piece[j];
-      velocityCoef[j] = p == 4 ? -mu * cnu * (key[j] % 2) * (yv[j] > 0 ? 1. : -1.) : pieceA[p];
-      stressCoef[j] = pieceD[p];
-      relationRhs[j] = pieceH[p];
-      velocitySlot[j] = p == 4 && partner[j] >= 0 ? partner[j] : j;
-    }
-  }
+  long generation = -1;                // the factor the base matrix belongs to
+  // the cycle guard: a fingerprint of the relations at each iteration of the step
+  std::vector<double> seen;
+  std::vector<double> rDefault;        // r_j at the start of a step
+  double merit = 0;                    // of the last accepted iterate
 };
-Laws Q;
-
-long laws(KN<long> *const &pkind, KN<long> *const &ppartner, KN<double> *const &pr, KN<double> *const &pp) {
-  KN<long> &kind = *pkind, &partner = *ppartner;
-  KN<double> &r = *pr, &p = *pp;
-  const int nc = kind.N();
-  if (partner.N() != nc || r.N() != nc || p.N() != 10) ExecError("contactKernelLaws: wrong argument sizes");
-  if (!F.L || nc != F.nc || (int)F.Dw.size() != nc * nc)
-    ExecError("contactKernelLaws: call contactKernelFactorize and contactKernelDelassus first (same slots)");
-  for (int j = 0; j < nc; j++)
-    if ((kind[j] != 0 && kind[j] != 1) || (kind[j] == 1 && (partner[j] < -1 || partner[j] >= nc || (partner[j] >= 0 && kind[partner[j]] != 0))))
-      ExecError("contactKernelLaws: kind must be 0 or 1, partner a normal slot (or -1)");
-  Q = Laws();
-  Q.nc = nc;
-  Q.generation = F.generation;
-  Q.cnu = p[0]; Q.g = p[1]; Q.mu = p[2]; Q.eps = p[3]; Q.penalty = p[4] != 0; Q.literal = p[5] != 0;
-  Q.tol = p[6]; Q.maxit = (int)p[7]; Q.safeguards = p[8] != 0; Q.forceScale = p[9];
-  Q.isNormal.resize(nc); Q.partner.resize(nc); Q.damping.resize(nc);
-  Q.r.resize(nc); Q.rDefault.resize(nc); Q.threshold.resize(nc); Q.residualWeight.resize(nc);
-  for (int j = 0; j < nc; j++) {
-    Q.isNormal[j] = kind[j] == 0;
-    Q.partner[j] = kind[j] == 0 ? -1 : (int)partner[j];
-    Q.damping[j] = kind[j] == 0 ? Q.cnu : 0.;
-    Q.setAugmentation(j, r[j]);
-  }
-  Q.rDefault = Q.r;
-  const double pa[5] = {Q.cnu, 0., 1., 1., 0.};
-  const double pd[5] = {1., 1., Q.penalty ? -Q.eps : 0., 0., 1.};
-  const double ph[5] = {0., 0., Q.g, 0., 0.};
-  std::copy(pa, pa + 5, Q.pieceA); std::copy(pd, pd + 5, Q.pieceD); std::copy(ph, ph + 5, Q.pieceH);
-  if (Q.penalty && Q.literal) { Q.pieceA[2] = -1. / Q.eps; Q.pieceD[2] = 1.; Q.pieceH[2] = -Q.g / Q.eps; }
-  Q.kappa = Q.cnu + 1. / Q.eps;
-  Q.keyWeight.resize(nc);
-  for (int j = 0; j < nc; j++) Q.keyWeight[j] = 1. + ((7919 * j + 104729) % 1009);
-  Q.stress.resize(nc); Q.yv.resize(nc); Q.bound.resize(nc); Q.target.resize(nc); Q.mismatch.resize(nc);
-  Q.piece.resize(nc); Q.key.resize(nc);
-  Q.velocityCoef.resize(nc); Q.stressCoef.resize(nc); Q.relationRhs.resize(nc); Q.velocitySlot.resize(nc);
-  Q.pivots.resize(nc); Q.newtonKey.assign(nc, -1);
-  Q.ready = true;
-  return 0;
-}
+Newton Q;
 
 // c = cFree - Dw m
 void velocities(const double *cFree, const double *m, double *c) {
-  const int nc = Q.nc, inc = 1;
+  const int nc = F.nc, inc = 1;
   const double minusOne = -1., one = 1.;
   std::copy(cFree, cFree + nc, c);
   dgemv_("N", &nc, &nc, &minusOne, F.Dw.data(), &nc, m, &inc, &one, c, &inc);
@@ -618,43 +669,47 @@ void velocities(const double *cFree, const double *m, double *c) {
 
 // LU of N0 = the Newton matrix of the current relations
 bool newtonFactorBase() {
-  const int nc = Q.nc;
+  const int nc = F.nc;
   Q.N0.assign((size_t)nc * nc, 0.);
-  for (int jj = 0; jj < nc; jj++)           // column jj: row j uses Dw(velocitySlot[j], jj)
-    for (int j = 0; j < nc; j++)
-      Q.N0[j + (size_t)jj * nc] = -Q.velocityCoef[j] * F.Dw[Q.velocitySlot[j] + (size_t)jj * nc];
-  for (int j = 0; j < nc; j++) Q.N0[j + (size_t)j * nc] += Q.stressCoef[j];
+  for (int jj = 0; jj < nc; jj++)
+    for (int j = 0; j < nc; j++) Q.N0[j + (size_t)jj * nc] = -L.a[j] * F.Dw[L.slot[j] + (size_t)jj * nc];
+  for (int j = 0; j < nc; j++) Q.N0[j + (size_t)j * nc] += L.d[j];
+  Q.pivots.resize(nc);
   int info = 0;
   dgetrf_(&nc, &nc, Q.N0.data(), &nc, Q.pivots.data(), &info);
   Q.factorizations++;
   Q.haveBase = info == 0;
+  Q.generation = F.generation;
   Q.changed.clear();
-  Q.baseA = Q.velocityCoef; Q.baseD = Q.stressCoef; Q.baseS = Q.velocitySlot;
-  Q.newtonKey = Q.key;
-  if (!Q.haveBase) Q.newtonKey.assign(nc, -1);
+  Q.baseA = L.a; Q.baseD = L.d; Q.baseS = L.slot;
+  Q.preparedA = L.a; Q.preparedD = L.d; Q.preparedS = L.slot;
+  if (!Q.haveBase) Q.preparedS.assign(nc, -1);
   return Q.haveBase;
 }
 
-// Prepare the solves with the Newton matrix of the current pieces (Q.key).
+bool sameAsPrepared() {
+  return Q.haveBase && Q.generation == F.generation && L.a == Q.preparedA && L.d == Q.preparedD && L.slot == Q.preparedS;
+}
+
+// Prepare the solves with the Newton matrix of the current relations.
 bool newtonPrepare() {
-  const int nc = Q.nc;
-  if (!Q.haveBase) return newtonFactorBase();
+  const int nc = F.nc;
+  if (!Q.haveBase || Q.generation != F.generation) return newtonFactorBase();
   std::vector<int> R;
   for (int j = 0; j < nc; j++)
-    if (Q.velocityCoef[j] != Q.baseA[j] || Q.stressCoef[j] != Q.baseD[j] || Q.velocitySlot[j] != Q.baseS[j]) R.push_back(j);
+    if (L.a[j] != Q.baseA[j] || L.d[j] != Q.baseD[j] || L.slot[j] != Q.baseS[j]) R.push_back(j);
   const int r = R.size();
   if (r > nc / 8) return newtonFactorBase();
   Q.changed = R;
-  Q.newtonKey = Q.key;
+  Q.preparedA = L.a; Q.preparedD = L.d; Q.preparedS = L.slot;
   if (r == 0) return true;
   // Delta (r x nc): the changed rows of N minus those of N0
   Q.Delta.assign((size_t)r * nc, 0.);
   for (int k = 0; k < r; k++) {
     int j = R[k];
     for (int i = 0; i < nc; i++)
-      Q.Delta[k + (size_t)i * r] = -Q.velocityCoef[j] * F.Dw[Q.velocitySlot[j] + (size_t)i * nc]
-                                 + Q.baseA[j] * F.Dw[Q.baseS[j] + (size_t)i * nc];
-    Q.Delta[k + (size_t)j * r] += Q.stressCoef[j] - Q.baseD[j];
+      Q.Delta[k + (size_t)i * r] = -L.a[j] * F.Dw[L.slot[j] + (size_t)i * nc] + Q.baseA[j] * F.Dw[Q.baseS[j] + (size_t)i * nc];
+    Q.Delta[k + (size_t)j * r] += L.d[j] - Q.baseD[j];
   }
   // Y = N0^-1 E_R, K = I + Delta Y
   Q.Y.assign((size_t)nc * r, 0.);
@@ -675,7 +730,7 @@ bool newtonPrepare() {
 // x = N^-1 b with N0's factors and the correction; the corrected solve is checked by its
 // residual, row by row, against the size of the row's terms (falls back to a factorization).
 bool newtonSolve(const double *b, double *x) {
-  const int nc = Q.nc, one = 1, inc = 1;
+  const int nc = F.nc, one = 1, inc = 1;
   int info = 0;
   std::copy(b, b + nc, x);
   dgetrs_("N", &nc, &one, Q.N0.data(), &nc, Q.pivots.data(), x, &nc, &info);
@@ -688,7 +743,7 @@ bool newtonSolve(const double *b, double *x) {
   dgemv_("N", &nc, &r, &minus, Q.Y.data(), &nc, t.data(), &inc, &plus, x, &inc);
   dgemv_("N", &nc, &nc, &plus, F.Dw.data(), &nc, x, &inc, &zero, Dx.data(), &inc);
   for (int j = 0; j < nc; j++) {
-    double a = -Q.velocityCoef[j] * Dx[Q.velocitySlot[j]], d = Q.stressCoef[j] * x[j];
+    double a = -L.a[j] * Dx[L.slot[j]], d = L.d[j] * x[j];
     double scale = std::fabs(b[j]) + std::fabs(a) + std::fabs(d);
     if (!(std::fabs(a + d - b[j]) <= 1e-11 * scale)) {
       if (!newtonFactorBase()) return false;
@@ -700,39 +755,66 @@ bool newtonSolve(const double *b, double *x) {
   return true;
 }
 
+// The safeguards, shared by every Newton (compiled here, or the script view and the
+// full-system Newton of edp/lib/solvers.idp).
+// Cycle guard: the relations of iteration it are fingerprinted (the pieces, and the
+// coefficients for a nonlinear p); when a fingerprint repeats within the step, r is halved on
+// every slot for the rest of the step (the solution does not depend on r, only which piece is
+// tried next). The weights are fixed pseudo-random numbers in [1, 1009].
+int guard(int it) {
+  if ((int)Q.seen.size() < it + 1) Q.seen.resize(it + 1, -1.);
+  if (it == 0) { std::fill(Q.seen.begin(), Q.seen.end(), -1.); Q.rDefault = L.r; }
+  double fingerprint = 0;
+  for (int j = 0; j < L.n; j++)
+    fingerprint += (L.key[j] + 0.6180339887 * L.a[j] + 0.4142135624 * L.d[j]) * (1. + ((7919 * j + 104729) % 1009));
+  int halved = 0;
+  if (SP.safeguards)
+    for (int k = 0; k < it; k++)
+      if (Q.seen[k] == fingerprint) {
+        for (int j = 0; j < L.n; j++) L.setAugmentation(j, 0.5 * L.r[j]);
+        Q.halvings++;
+        std::fill(Q.seen.begin(), Q.seen.end(), -1.);
+        halved = 1;
+        break;
+      }
+  Q.seen[it] = fingerprint;
+  return halved;
+}
+// Line search: a step of the Newton direction (1, 1/2, ... 1/1024) is accepted when the merit
+// ||Phi||_2 of the weighted residual decreases (Armijo, 1e-4), or the residual meets tol, or
+// at the tenth cut; the last evaluation must be the trial iterate's.
+bool accept(double merit, double step, int cut, double residual) {
+  const bool ok = !SP.safeguards || L.merit() < (1 - 1e-4 * step) * merit || residual <= SP.tol || cut == 10;
+  if (!ok) Q.cuts++;
+  return ok;
+}
+void endStep() {
+  if (!Q.rDefault.empty() && Q.rDefault != L.r) for (int j = 0; j < L.n; j++) L.setAugmentation(j, Q.rDefault[j]);
+}
+
+void requireSolver(const char *who) {
+  requireNodes(who);
+  requireDelassus(who);
+}
+
 long newton(KN<double> *const &pcFree, KN<double> *const &pc, KN<double> *const &pm, KN<double> *const &pinfo) {
-  if (!Q.ready) ExecError("contactKernelNewton: call contactKernelLaws first");
-  if (!F.L || Q.generation != F.generation || (int)F.Dw.size() != Q.nc * Q.nc)
-    ExecError("contactKernelNewton: the factor changed since contactKernelLaws; call contactKernelDelassus and contactKernelLaws again");
-  const int nc = Q.nc, one = 1;
+  requireSolver("contactKernelNewton");
+  const int nc = F.nc;
   KN<double> &cFreeK = *pcFree, &cK = *pc, &mK = *pm, &info = *pinfo;
   if (cFreeK.N() != nc || cK.N() != nc || mK.N() != nc) ExecError("contactKernelNewton: one value per slot expected");
   std::vector<double> cFree(nc), c(nc), m(nc), cStart(nc), previous(nc), newtonM(nc), rhs(nc), d(nc);
   for (int j = 0; j < nc; j++) { cFree[j] = cFreeK[j]; c[j] = cK[j]; m[j] = mK[j]; }
-  std::vector<double> seen(Q.maxit + 1, -1.);
   // merit at the previous stresses with this step's cFree; first pieces from the previous solution
   velocities(cFree.data(), m.data(), cStart.data());
-  Q.classify(cStart.data(), m.data());
-  double merit = Q.merit();
-  Q.classify(c.data(), m.data());
-  double residual = 0;
+  L.evaluate(cStart.data(), m.data());
+  double merit = L.merit();
+  double residual = L.evaluate(c.data(), m.data());
   int it = 0;
   while (true) {
-    Q.relations();
-    // cycle guard: the fingerprint of the pieces; a repeat within the step halves r
-    double fingerprint = 0;
-    for (int j = 0; j < nc; j++) fingerprint += Q.key[j] * Q.keyWeight[j];
-    if (Q.safeguards)
-      for (int k = 0; k < it; k++)
-        if (seen[k] == fingerprint) {
-          for (int j = 0; j < nc; j++) Q.setAugmentation(j, 0.5 * Q.r[j]);
-          Q.halvings++;
-          std::fill(seen.begin(), seen.end(), -1.);
-          break;
-        }
-    seen[it] = fingerprint;
-    if (Q.key != Q.newtonKey && !newtonPrepare()) { residual = NAN; break; }
-    for (int j = 0; j < nc; j++) rhs[j] = Q.relationRhs[j] - Q.velocityCoef[j] * cFree[Q.velocitySlot[j]];
+    L.relations(c.data());
+    guard(it);
+    if (!sameAsPrepared() && !newtonPrepare()) { residual = NAN; break; }
+    for (int j = 0; j < nc; j++) rhs[j] = L.h[j] - L.a[j] * cFree[L.slot[j]];
     previous = m;
     if (!newtonSolve(rhs.data(), newtonM.data())) { residual = NAN; break; }
     for (int j = 0; j < nc; j++) d[j] = newtonM[j] - previous[j];
@@ -740,37 +822,92 @@ long newton(KN<double> *const &pcFree, KN<double> *const &pc, KN<double> *const 
     for (int cut = 0; cut <= 10; cut++) {
       for (int j = 0; j < nc; j++) m[j] = previous[j] + step * d[j];
       velocities(cFree.data(), m.data(), c.data());
-      residual = Q.classify(c.data(), m.data());
-      if (!Q.safeguards || Q.merit() < (1 - 1e-4 * step) * merit || residual <= Q.tol || cut == 10) break;
+      residual = L.evaluate(c.data(), m.data());
+      if (accept(merit, step, cut, residual)) break;
       step *= 0.5;
-      Q.cuts++;
     }
-    merit = Q.merit();
+    merit = L.merit();
     it++;
-    if (residual <= Q.tol || it >= Q.maxit || std::isnan(residual) || std::isinf(residual)) break;
+    if (residual <= SP.tol || it >= SP.maxit || std::isnan(residual) || std::isinf(residual)) break;
   }
-  if (Q.r != Q.rDefault) for (int j = 0; j < nc; j++) Q.setAugmentation(j, Q.rDefault[j]);
+  endStep();
   for (int j = 0; j < nc; j++) { cK[j] = c[j]; mK[j] = m[j]; }
-  if (info.N() != 6) info.resize(6);
-  info[0] = residual; info[1] = it; info[2] = Q.cuts; info[3] = Q.halvings; info[4] = Q.factorizations;
-  info[5] = Q.corrections;
-  return residual <= Q.tol ? it : -1;
+  if (info.N() != 2) info.resize(2);
+  info[0] = residual; info[1] = it;
+  return residual <= SP.tol ? it : -1;
+}
+
+// ---------------------------------------------------------------- the law for the script solvers
+double lawEvaluate(KN<double> *const &pc, KN<double> *const &pm, KN<double> *const &ptarget) {
+  requireNodes("contactLawEvaluate");
+  KN<double> &cK = *pc, &mK = *pm, &target = *ptarget;
+  if (cK.N() != L.n || mK.N() != L.n) ExecError("contactLawEvaluate: one value per slot expected");
+  std::vector<double> c = copyOf(cK), m = copyOf(mK);
+  const double residual = L.evaluate(c.data(), m.data());
+  target.resize(L.n);
+  for (int j = 0; j < L.n; j++) target[j] = L.target[j];
+  return residual;
+}
+
+long lawRelations(KN<double> *const &pc, KN<double> *const &pa, KN<double> *const &pd, KN<double> *const &ph,
+                  KN<long> *const &pslot) {
+  requireNodes("contactLawRelations");
+  KN<double> &cK = *pc, &a = *pa, &d = *pd, &h = *ph;
+  KN<long> &slot = *pslot;
+  if (cK.N() != L.n) ExecError("contactLawRelations: one value per slot expected");
+  std::vector<double> c = copyOf(cK);
+  L.relations(c.data());
+  a.resize(L.n); d.resize(L.n); h.resize(L.n); slot.resize(L.n);
+  for (int j = 0; j < L.n; j++) { a[j] = L.a[j]; d[j] = L.d[j]; h[j] = L.h[j]; slot[j] = L.slot[j]; }
+  return 0;
+}
+
+double lawMerit() { return L.merit(); }
+long newtonGuard(const long &it) { requireNodes("contactNewtonGuard"); return guard((int)it); }
+long newtonAccept(const double &merit, const double &step, const long &cut) {
+  double worst = 0;
+  for (int j = 0; j < L.n; j++) { worst = std::max(worst, std::fabs(L.mismatch[j])); if (std::isnan(L.mismatch[j])) worst = NAN; }
+  return accept(merit, step, (int)cut, worst) ? 1 : 0;
+}
+long newtonEnd() { endStep(); return 0; }
+
+long counters(KN<double> *const &pinfo) {
+  KN<double> &info = *pinfo;
+  info.resize(4);
+  info[0] = Q.cuts; info[1] = Q.halvings; info[2] = Q.factorizations; info[3] = Q.corrections;
+  return 0;
+}
+
+double wallClock() {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
 }
 
 }  // namespace
 
 static void Load_Init() {
+  Global.Add("contactKernelParameter", "(", new OneOperator2_<long, string *, double>(parameter));
+  Global.Add("contactKernelNodes", "(", new OneOperator5_<long, KN<double> *, KN<double> *, KN<double> *, KN<long> *, KN<long> *>(nodes));
+  Global.Add("contactKernelDampingSlope", "(", new OneOperator1_<long, KN<double> *>(dampingSlope));
   Global.Add("contactKernelFactorize", "(", new OneOperator2_<long, Matrice_Creuse<double> *, Matrice_Creuse<double> *>(factorize));
-  Global.Add("contactKernelDelassus", "(", new OneOperator2_<long, KN<double> *, KNM<double> *>(delassus));
+  Global.Add("contactKernelDelassus", "(", new OneOperator1_<long, KNM<double> *>(delassus));
+  Global.Add("contactKernelAugmentation", "(", new OneOperator1_<long, KN<double> *>(augmentation));
   Global.Add("contactKernelSolve", "(", new OneOperator2_<long, KN<double> *, KN<double> *>(solve));
   Global.Add("contactKernelFree", "(", new OneOperator2_<long, KN<double> *, KN<double> *>(freeVelocity));
   Global.Add("contactKernelFinish", "(", new OneOperator2_<long, KN<double> *, KN<double> *>(finish));
   Global.Add("contactKernelProducts", "(", new OneOperator3_<long, Matrice_Creuse<double> *, Matrice_Creuse<double> *, Matrice_Creuse<double> *>(products));
   Global.Add("contactKernelMultiply", "(", new OneOperator4_<long, KN<double> *, KN<double> *, KN<double> *, KN<double> *>(multiply));
-  Global.Add("contactKernelRecordSetup", "(", new OneOperator6_<long, KN<double> *, KN<double> *, KN<double> *, KN<long> *, KN<long> *, KN<double> *>(recordSetup));
+  Global.Add("contactKernelRecordStart", "(", new OneOperator4_<long, KN<double> *, KN<double> *, KN<double> *, KN<double> *>(recordStart));
   Global.Add("contactKernelRecord", "(", new OneOperator7_<long, KN<double> *, KN<double> *, KN<double> *, KN<double> *, KN<double> *, KN<double> *, KN<double> *>(stepRecord));
-  Global.Add("contactKernelLaws", "(", new OneOperator4_<long, KN<long> *, KN<long> *, KN<double> *, KN<double> *>(laws));
+  Global.Add("contactKernelNodal", "(", new OneOperator3_<long, KN<double> *, KN<double> *, KNM<double> *>(nodal));
   Global.Add("contactKernelNewton", "(", new OneOperator4_<long, KN<double> *, KN<double> *, KN<double> *, KN<double> *>(newton));
+  Global.Add("contactLawEvaluate", "(", new OneOperator3_<double, KN<double> *, KN<double> *, KN<double> *>(lawEvaluate));
+  Global.Add("contactLawRelations", "(", new OneOperator5_<long, KN<double> *, KN<double> *, KN<double> *, KN<double> *, KN<long> *>(lawRelations));
+  Global.Add("contactLawMerit", "(", new OneOperator0<double>(lawMerit));
+  Global.Add("contactNewtonGuard", "(", new OneOperator1_<long, long>(newtonGuard));
+  Global.Add("contactNewtonAccept", "(", new OneOperator3_<long, double, double, long>(newtonAccept));
+  Global.Add("contactNewtonEnd", "(", new OneOperator0<long>(newtonEnd));
+  Global.Add("contactKernelCounters", "(", new OneOperator1_<long, KN<double> *>(counters));
+  Global.Add("contactKernelWallClock", "(", new OneOperator0<double>(wallClock));
 }
 
 LOADFUNC(Load_Init)

@@ -1,0 +1,236 @@
+// contactlaw.hpp: the nodal contact laws of the suite, defined once (paper (2.17), (2.18),
+// (2.28), (2.29), in the resolvent form of (4.8); docs/design.md, section "The nodal laws").
+//
+// Every solver and every output reads the law from here: the compiled Newton (default),
+// its script view (-kernel script), the fixed point and the full-system Newton (through
+// the contactLaw* functions of contactkernel.cpp), the record of each step and the
+// statuses of contact.txt. Change the law in the first part of this file and ./run.sh
+// rebuilds the kernel; every solver then solves the new law.
+#ifndef CONTACTLAW_HPP
+#define CONTACTLAW_HPP
+#include <algorithm>
+#include <cmath>
+#include <string>
+#include <vector>
+
+namespace contactlaw {
+
+// The data of the law, set by name from edp/lib/contact.idp (contactKernelParameter and,
+// per node, contactKernelNodes).
+struct Parameters {
+  double cnu = 0;        // option -cnu: c_nu of the damped response
+  double mu = 0;         // option -mu: friction coefficient
+  double eps = 1;        // option -eps: penalty parameter
+  bool penalty = false;  // option -problem penalty (else the original problem, v_nu <= g)
+  bool literal = false;  // option -penaltyform literal (else compliant)
+};
+
+// ======================= the law: what a user or a student changes =======================
+
+// p(r), the normal damped response (2.17); the paper's is p(r) = c_nu r_+ (section 5).
+// It must vanish for r <= 0 and be nondecreasing.
+inline double dampedResponse(const Parameters &P, double r) { return P.cnu * std::max(r, 0.); }
+
+// p'(r), its slope (Newton's linearization uses it); at a kink, the slope on the left.
+// Keep it consistent with dampedResponse: the kernel compares the two when a run starts.
+inline double dampedResponseSlope(const Parameters &P, double r) { return r > 0 ? P.cnu : 0.; }
+
+// The friction bound (2.18): mu p(v_nu). At the bound v_nu = g it is Tresca's F_b = mu p(g).
+inline double frictionBound(const Parameters &P, double vn) { return P.mu * dampedResponse(P, vn); }
+inline double frictionBoundSlope(const Parameters &P, double vn) { return P.mu * dampedResponseSlope(P, vn); }
+
+// Statuses of a node (contact.txt): normal 0 free (v_nu <= 0), 1 damped, 2 at the bound
+// (v_nu >= g (1 - 1e-6)); tangential 0 stick (|v_tau| <= 1e-6 g), 1 slip.
+const double statusTolerance = 1e-6;
+inline int normalStatus(double vn, double g) { return vn <= 0 ? 0 : (vn >= g * (1 - statusTolerance) ? 2 : 1); }
+inline int tangentialStatus(double vt, double g) { return std::fabs(vt) <= statusTolerance * g ? 0 : 1; }
+// Zones: 0 free, 1 damped-slip, 2 damped-stick, 3 bound-slip, 4 bound-stick.
+inline int zone(int normal, int tangential) { return normal > 0 ? 2 * normal - tangential : 0; }
+
+// ============ derived from the law above: pieces, resolvents, relations (no need to edit) ============
+//
+// Slots. A contact node carries up to two slots, its normal and its tangential velocity
+// component (unless a Dirichlet condition fixes it); slot j has the velocity c_j and the
+// stress Lambda_j (p_nu = p(v_nu) + lambda_nu on a normal slot, lambda_tau on a tangential
+// one). The solvers' unknown is m_j = Lambda_j - Kn_j c_j: Kn_j = p'(g) on normal slots is
+// folded into the constant matrix S (an exact rewriting for any constant Kn_j).
+//
+// Resolvent form: for any r_j > 0 and y = Lambda + r c, the law picks one piece per slot
+//   normal:     y <= 0                 Free    Lambda = 0
+//               0 < y < p(g) + r g     Damped  Lambda = p(v), p(v) + r v = y, 0 < v < g
+//               y >= p(g) + r g        Bound   original: v = g, Lambda = y - r g
+//                                              penalty: Lambda = p(v) + (v - g)/eps, v >= g
+//   tangential: s = mu p(c_partner), the bound of the node's normal slot (its "partner")
+//               s > 0 and |y| <= s     Stick   Lambda = y (then v = 0)
+//               otherwise              Slip    Lambda = s sign(y)
+// and the natural residual of slot j is |Lambda_j - target_j| (the Lambda the piece gives).
+// A Newton step solves each slot's relation  a_j c[slot_j] + d_j m_j = h_j : the piece's
+// equation, linearized (p at the resolvent's v on Damped and Bound pieces, the friction
+// bound at the partner's velocity on Slip). A piecewise-linear p makes them exact.
+enum Piece { Free = 0, Damped = 1, Bound = 2, Stick = 3, Slip = 4 };
+
+struct Slots {
+  Parameters P;
+  int n = 0;
+  std::vector<char> normal;              // normal slot (else tangential)
+  std::vector<int> partner;              // a tangential slot's normal slot, -1 if none
+  std::vector<double> g, Kn, r, forceScale, residualWeight;
+  // at the last evaluate(): piece, key, y, the resolvent's v (Damped, Bound) and target
+  std::vector<int> piece, key;
+  std::vector<double> stress, y, velocity, target, mismatch;
+  // the relations of the pieces (relations())
+  std::vector<double> a, d, h;
+  std::vector<int> slot;
+
+  void resize(int count) {
+    n = count;
+    normal.assign(n, 1); partner.assign(n, -1);
+    for (auto *v : {&g, &Kn, &r, &forceScale, &residualWeight, &stress, &y, &velocity, &target, &mismatch, &a, &d, &h})
+      v->assign(n, 0.);
+    piece.assign(n, 0); key.assign(n, 0); slot.assign(n, 0);
+  }
+  // the velocity bound and the force scale p(g) of slot j (a tangential slot: its node's)
+  void setBound(int j, double bound) {
+    g[j] = bound;
+    const double pg = dampedResponse(P, bound);
+    forceScale[j] = pg > 0 ? pg : 1.;
+    Kn[j] = normal[j] ? dampedResponseSlope(P, bound) : 0.;
+  }
+  // the augmentation of slot j, and the weight of its residual: stress mismatches relative
+  // to p(g), and the velocity mismatch they imply (|.|/r) relative to g
+  void setAugmentation(int j, double rj) {
+    r[j] = rj;
+    residualWeight[j] = std::max(1. / forceScale[j], 1. / (rj * g[j]));
+  }
+
+  // v with p(base + v) - p(base) + s v = b on [0, hi] (a nondecreasing p, s > 0, b >= 0):
+  // Newton's method, kept inside a bracket by bisection
+  double solveResolvent(double base, double s, double b, double hi, double start) const {
+    const double pBase = dampedResponse(P, base);
+    double lo = 0, v = std::min(std::max(start, lo), hi);
+    for (int k = 0; k < 100; k++) {
+      const double f = dampedResponse(P, base + v) - pBase + s * v - b;
+      if (f == 0) return v;
+      if (f > 0) hi = v; else lo = v;
+      const double slope = dampedResponseSlope(P, base + v) + s;
+      double next = v - f / slope;
+      if (!(next >= lo && next <= hi)) next = 0.5 * (lo + hi);
+      if (std::fabs(next - v) <= 1e-15 * std::fabs(v) || hi - lo <= 1e-15 * hi) return next;
+      v = next;
+    }
+    return v;
+  }
+
+  // pieces, targets and the weighted natural residual (max norm; NaN if any is NaN) at (c, m)
+  double evaluate(const double *c, const double *m) {
+    double worst = 0;
+    for (int j = 0; j < n; j++) {
+      const double lambda = Kn[j] * c[j] + m[j], yj = lambda + r[j] * c[j];
+      stress[j] = lambda; y[j] = yj;
+      int p;
+      double t;
+      if (normal[j]) {
+        const double pg = dampedResponse(P, g[j]);
+        if (yj <= 0) { p = Free; t = 0.; }
+        else if (yj < pg + r[j] * g[j]) {
+          p = Damped;
+          const double slope = dampedResponseSlope(P, g[j]);    // exact start for a linear p
+          velocity[j] = solveResolvent(0., r[j], yj, g[j], yj / (slope + r[j]));
+          t = dampedResponse(P, velocity[j]);
+        }
+        else if (!P.penalty) { p = Bound; velocity[j] = g[j]; t = yj - r[j] * g[j]; }
+        else {                                                 // penalty: v = g + overshoot
+          p = Bound;
+          const double s = 1. / P.eps + r[j], b = yj - r[j] * g[j] - pg;
+          const double slope = dampedResponseSlope(P, g[j]);
+          const double over = solveResolvent(g[j], s, b, b / s, b / (slope + s));
+          velocity[j] = g[j] + over;
+          t = (yj - r[j] * g[j]) - r[j] * over;
+        }
+      }
+      else {
+        const double s = partner[j] >= 0 ? frictionBound(P, c[partner[j]]) : 0.;
+        p = (s > 0 && std::fabs(yj) <= s) ? Stick : Slip;
+        t = std::max(-s, std::min(s, yj));
+        key[j] = 4 * p + (p == Slip ? 2 * (yj > 0) + (s > 0) : 0);
+      }
+      if (normal[j]) key[j] = 4 * p;
+      piece[j] = p;
+      target[j] = t;
+      mismatch[j] = (lambda - t) * residualWeight[j];
+      worst = std::max(worst, std::fabs(mismatch[j]));
+      if (std::isnan(mismatch[j])) worst = mismatch[j];
+    }
+    return worst;
+  }
+  double merit() const {
+    double s = 0;
+    for (int j = 0; j < n; j++) s += mismatch[j] * mismatch[j];
+    return std::sqrt(s);
+  }
+
+  // the relation a_j c[slot_j] + d_j m_j = h_j of each slot's piece, at the last evaluate()
+  void relations(const double *c) {
+    for (int j = 0; j < n; j++) {
+      double aj = 0, dj = 1, hj = 0;
+      int sj = j;
+      const double v = velocity[j];
+      switch (piece[j]) {
+        case Free: aj = Kn[j]; break;                                     // Lambda = 0
+        case Damped: {                                                    // Lambda = p(v) + p'(v)(c - v)
+          const double slope = dampedResponseSlope(P, v);
+          aj = Kn[j] - slope; hj = dampedResponse(P, v) - slope * v;
+          break;
+        }
+        case Bound:
+          if (!P.penalty) { aj = 1; dj = 0; hj = g[j]; }                  // c = g
+          else {                                                          // Lambda = p(c) + (c - g)/eps, linearized at v
+            const double slope = dampedResponseSlope(P, v), offset = dampedResponse(P, v) - slope * v;
+            if (P.literal) { aj = Kn[j] - slope - 1. / P.eps; hj = offset - g[j] / P.eps; }
+            else { aj = 1 + P.eps * (slope - Kn[j]); dj = -P.eps; hj = g[j] - P.eps * offset; }
+          }
+          break;
+        case Stick: aj = 1; dj = 0; break;                                // c = 0
+        case Slip:                                                        // Lambda = sign(y) F(c_partner), linearized
+          if (partner[j] >= 0) {
+            const double sign = y[j] > 0 ? 1. : -1., cp = c[partner[j]];
+            const double slope = frictionBoundSlope(P, cp);
+            sj = partner[j]; aj = -sign * slope; hj = sign * (frictionBound(P, cp) - slope * cp);
+          }
+          break;
+      }
+      a[j] = aj; d[j] = dj; h[j] = hj; slot[j] = sj;
+    }
+  }
+};
+
+// Is p (with its slope) a damped response the solvers can use? 0 if so; otherwise 1 and a
+// sentence in why: p(r) = 0 for r <= 0, nondecreasing, slope consistent with p.
+inline int checkDampedResponse(const Parameters &P, double g, std::string &why) {
+  const double pg = dampedResponse(P, g), scale = std::max(std::fabs(pg) / g, 1e-300);
+  for (double r : {-g, -0.5 * g, 0.})
+    if (dampedResponse(P, r) != 0 || dampedResponseSlope(P, r) != 0) {
+      why = "p(r) or p'(r) is not 0 at r = " + std::to_string(r) + " <= 0";
+      return 1;
+    }
+  double previous = 0;
+  for (int k = 1; k <= 16; k++) {
+    const double r = g * k / 8., h = 1e-5 * g;
+    const double value = dampedResponse(P, r), slope = dampedResponseSlope(P, r);
+    const double quotient = (dampedResponse(P, r + h) - dampedResponse(P, r - h)) / (2 * h);
+    if (!std::isfinite(value) || value < previous || slope < 0) {
+      why = "p is not finite and nondecreasing near r = " + std::to_string(r);
+      return 1;
+    }
+    if (std::fabs(slope - quotient) > 1e-4 * (std::fabs(quotient) + scale)) {
+      why = "p'(" + std::to_string(r) + ") = " + std::to_string(slope) + " but the difference quotient of p there is "
+            + std::to_string(quotient);
+      return 1;
+    }
+    previous = value;
+  }
+  return 0;
+}
+
+}  // namespace contactlaw
+#endif

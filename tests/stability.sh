@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # stability.sh: where each contact solver fails, behind ./run.sh stability [--quick].
 # Runs parameter sweeps of edp/solve.edp, two solves at a time, and writes the tables
-# and maps of docs/stability.md (the draft README section "When methods fail").
+# and maps of docs/stability.md.
 #
 # Usage (from anywhere; the environment of run.sh is set here when missing):
 #   tests/stability.sh [--quick] [--jobs N]

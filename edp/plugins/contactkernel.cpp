@@ -580,7 +580,7 @@ long recordStart(KN<double> *const &pv0, KN<double> *const &pu0, KN<double> *con
 // contact_dissipation, external_work, energy_residual, kinetic_jump, elastic_jump,
 // normal_force, tangential_force, the five zone counts, x_B, x_C] (the columns of history.txt
 // and contact_history.txt; 1e300 for an x_B or x_C that does not exist). The discrete energy
-// balance (docs/design.md, section "Energy balance"), test function w = v_n:
+// balance (docs/design.md, section "Energy identity"), test function w = v_n:
 //   E_n - E_{n-1} + 1/2 m(v_n - v_{n-1}) + k^2/2 b(v_n) + k a(v_n) + k (C'W Lam)'v_n = k f_n'v_n
 long stepRecord(KN<double> *const &pv, KN<double> *const &pu, KN<double> *const &pLam, KN<double> *const &pf,
                 KN<double> *const &pMv, KN<double> *const &pBu, KN<double> *const &prec) {

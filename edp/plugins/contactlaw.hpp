@@ -1,5 +1,5 @@
 // contactlaw.hpp: the nodal contact laws of the suite, defined once (paper (2.17), (2.18),
-// (2.28), (2.29), in the resolvent form of (4.8); docs/design.md, section "The nodal laws").
+// (2.28), (2.29), in the resolvent form of (4.8); docs/design.md, section "Nodal laws").
 //
 // Every solver and every output reads the law from here: the compiled Newton (default),
 // its script view (-kernel script), the fixed point and the full-system Newton (through

@@ -11,6 +11,7 @@ tests="$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)"
 root="$(dirname "$tests")"
 cd "$root" || exit 1
 PYTHON="${PYTHON:-/usr/bin/python3}"
+export PYTHONPATH="$root/plots${PYTHONPATH:+:$PYTHONPATH}"   # plots/suite.py, as run.sh sets it
 FREEFEM=(FreeFem++-nw -ns -v 0)
 work=tests/work              # relative, so that outputs do not depend on the checkout's path
 mkdir -p "$work"
@@ -200,19 +201,14 @@ for kernel in compiled script; do   # from the copy's folder: its freefem++.pref
   (cd "$other" && bash run.sh solve "${otherlaw_options[@]}" -kernel "$kernel" -out "$root/$work/otherlaw-$kernel") >> "$diag" 2>&1 || status=1
 done
 solve "${otherlaw_options[@]}" -out "$work/otherlaw-paper" >> "$diag" 2>&1 || status=1
-data_view() { grep -v -e '^#' -e '^time_' -e '^check_' -e '^newton_' -e '^out ' -e '^kernel ' -e '^mesh ' -e '^scene_file ' -e '^mesh_source ' "$1"; }
-for f in "${OUTPUT_FILES[@]}"; do
-  excluded=(); [ "$f" = history.txt ] && excluded=(4 11)
-  data_view "$work/otherlaw-compiled/$f" > "$work/otherlaw.a" 2>> "$diag"; data_view "$work/otherlaw-script/$f" > "$work/otherlaw.b" 2>> "$diag"
-  compare_numeric -q "$work/otherlaw.a" "$work/otherlaw.b" 1e-10 1e-9 "${excluded[@]}" > /dev/null 2>&1 \
-    || { echo "$f: compiled and script differ" >> "$diag"; status=1; }
-done
+"$PYTHON" tests/check_results.py "$work/otherlaw-script" --compare "$work/otherlaw-compiled" --other-law --rtol 1e-9 >> "$diag" 2>&1 \
+  || { echo "the script view differs from the compiled Newton, or a law-independent check failed" >> "$diag"; status=1; }
 # p_nu - lambda_nu = 1000 (v_nu)_+^2 on every node, and not the paper's 1000 (v_nu)_+
 awk '!/^#/ { vn = $2 > 0 ? $2 : 0; d = $4 - $5 - 1000 * vn * vn; if (d < 0) d = -d; if (d > 1e-9) bad++; n++ }
      END { if (!n || bad) { print "contact.txt does not follow p = 1000 (v_nu)_+^2 on " bad + 0 " of " n " nodes"; exit 1 } }' \
   "$work/otherlaw-compiled/contact.txt" >> "$diag" || status=1
-data_view "$work/otherlaw-paper/contact.txt" > "$work/otherlaw.c" 2>> "$diag"; data_view "$work/otherlaw-compiled/contact.txt" > "$work/otherlaw.a"
-compare_numeric -q "$work/otherlaw.c" "$work/otherlaw.a" 1e-10 1e-6 > /dev/null 2>&1 && { echo "the quadratic law gives the paper law's contact.txt" >> "$diag"; status=1; }
+"$PYTHON" tests/check_results.py "$work/otherlaw-compiled" --compare "$work/otherlaw-paper" --other-law --rtol 1e-6 > /dev/null 2>&1 \
+  && { echo "the quadratic law gives the paper law's results" >> "$diag"; status=1; }
 report $status "a law changed only in edp/plugins/contactlaw.hpp (p = c r^2): compiled = script Newton to 1e-9, outputs follow it" "$diag"
 diag="$work/umfpackfloor.diag"; : > "$diag"; status=0
 if solve "${coarse_options[@]}" -umfpackfloor on -out "$work/umfpackfloor" > "$diag" 2>&1; then
@@ -307,6 +303,10 @@ for problem in original penalty; do
   done
 done
 report $status "the defaults converge on the 16 corners of the paper box (mu 0, 1.5; load 1, 100; k 0.2 to T = 1, 1e-4 to T = 0.01)" "$diag"
+
+# ---- every repository path, link and section cited in README.md, docs/ and code comments exists
+diag="$work/references.diag"
+"$PYTHON" tests/check_references.py > "$diag" 2>&1; report $? "no dangling reference in README.md, docs/ and comments; none to files outside the repository or to issue numbers" "$diag"
 
 # ---- runs that must fail: exit code, message, and no results
 # expect_failure NAME CODE REGEX OPTIONS...

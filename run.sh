@@ -39,8 +39,10 @@ kernel_buildable() {
   command -v g++ >/dev/null 2>&1 && [ -f /usr/include/freefem++/ff++.hpp ] && [ -f /usr/include/suitesparse/cholmod.h ] \
     && { [ -e /usr/lib/x86_64-linux-gnu/liblapack.so ] || [ -e /usr/lib/liblapack.so ]; }
 }
-build_kernel() { # (re)build the plugin when it is missing or older than its source
-  [ -f "$KERNEL" ] && [ "$KERNEL" -nt "$KERNEL_SOURCE" ] && [ "$KERNEL" -nt "$KERNEL_LAW" ] && return 0
+build_kernel() { # (re)build the plugin when it is missing or its sources changed (by content, not date)
+  local sources
+  sources="$(cat "$KERNEL_SOURCE" "$KERNEL_LAW" | sha256sum | cut -d' ' -f1)"
+  [ -f "$KERNEL" ] && [ "$(cat "$KERNEL.sources" 2>/dev/null)" = "$sources" ] && return 0
   mkdir -p "$(dirname "$KERNEL")"
   local tmp="$KERNEL.$$"
   if ! g++ -O2 -std=c++14 -fPIC -shared -DNDEBUG -Wno-deprecated-declarations -I/usr/include/freefem++ \
@@ -48,6 +50,7 @@ build_kernel() { # (re)build the plugin when it is missing or older than its sou
     rm -f "$tmp"; echo "run.sh: error: cannot build $KERNEL from $KERNEL_SOURCE" >&2; exit 1
   fi
   mv "$tmp" "$KERNEL"
+  echo "$sources" > "$KERNEL.sources"
   echo "run.sh: built $KERNEL" >&2
 }
 

@@ -143,6 +143,20 @@ for problem in original penalty; do
   fi
 done
 
+# ---- the fixed point solves the same discrete problem as Newton (a short coarse run: it
+# needs about 15,000 iterations a step)
+for problem in original penalty; do
+  diag="$work/fixedpoint-$problem.diag"; : > "$diag"
+  fixedpoint_options=(-scene paper -nx 16 -ny 8 -dt 0.05 -T 0.2 -problem "$problem")
+  if solve "${fixedpoint_options[@]}" -solver fixedpoint -maxit 100000 -out "$work/fixedpoint-$problem" > "$diag" 2>&1 \
+     && solve "${fixedpoint_options[@]}" -out "$work/fixedpoint-newton-$problem" >> "$diag" 2>&1 \
+     && "$PYTHON" tests/check_results.py "$work/fixedpoint-$problem" --compare "$work/fixedpoint-newton-$problem" --rtol 1e-8 >> "$diag" 2>&1; then
+    report 0 "fixed point = Newton to 1e-8 ($problem, 16x8, T = 0.2)"
+  else
+    report 1 "fixed point = Newton to 1e-8 ($problem, 16x8, T = 0.2)" "$diag"
+  fi
+done
+
 # ---- the compiled kernel (edp/plugins/contactkernel.cpp): its linear algebra against
 # FreeFEM's UMFPACK, and its Newton against the script Newton of edp/lib/contact.idp
 diag="$work/kernel.diag"; : > "$diag"

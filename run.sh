@@ -30,28 +30,34 @@ missing_dependencies() { # missing_dependencies [solve]: "solve" skips what only
   return 1
 }
 
-# The compiled kernel (edp/plugins/contactkernel.cpp, a FreeFEM plugin): built with g++
-# against FreeFEM's headers (libfreefem++-dev) and CHOLMOD (libsuitesparse-dev).
-KERNEL_SOURCE="$here/edp/plugins/contactkernel.cpp"
-KERNEL_LAW="$here/edp/plugins/contactlaw.hpp"     # the nodal laws: a change rebuilds the kernel
-KERNEL="$here/edp/plugins/build/contactkernel.so"
+# The plugins of edp/plugins/, built with g++ against FreeFEM's headers (libfreefem++-dev):
+# contactkernel (CHOLMOD from libsuitesparse-dev, LAPACK), whose law is contactlaw.hpp, and
+# runtools (errors, clock). Each is rebuilt when the POSIX cksum of its sources changes; the
+# kernel also gets it compiled in, to refuse to run with sources it was not built from.
+PLUGINS="$here/edp/plugins"
 kernel_buildable() {
   command -v g++ >/dev/null 2>&1 && [ -f /usr/include/freefem++/ff++.hpp ] && [ -f /usr/include/suitesparse/cholmod.h ] \
     && { [ -e /usr/lib/x86_64-linux-gnu/liblapack.so ] || [ -e /usr/lib/liblapack.so ]; }
 }
-build_kernel() { # (re)build the plugin when it is missing or its sources changed (by content, not date)
-  local sources
-  sources="$(cat "$KERNEL_SOURCE" "$KERNEL_LAW" | sha256sum | cut -d' ' -f1)"
-  [ -f "$KERNEL" ] && [ "$(cat "$KERNEL.sources" 2>/dev/null)" = "$sources" ] && return 0
-  mkdir -p "$(dirname "$KERNEL")"
-  local tmp="$KERNEL.$$"
-  if ! g++ -O2 -std=c++14 -fPIC -shared -DNDEBUG -Wno-deprecated-declarations -I/usr/include/freefem++ \
-       -I/usr/include/suitesparse "$KERNEL_SOURCE" -o "$tmp" -lcholmod -llapack -lblas; then
-    rm -f "$tmp"; echo "run.sh: error: cannot build $KERNEL from $KERNEL_SOURCE" >&2; exit 1
+build_plugin() { # build_plugin NAME "SOURCES..." [LIBRARIES...]: (re)build edp/plugins/build/NAME.so
+  local name="$1" sources="$2"; shift 2
+  local target="$PLUGINS/build/$name.so" sum file
+  # shellcheck disable=SC2086
+  sum="$(cd "$PLUGINS" && cat $sources | cksum | cut -d' ' -f1)"
+  [ -f "$target" ] && [ "$(cat "$target.cksum" 2>/dev/null)" = "$sum" ] && return 0
+  mkdir -p "$PLUGINS/build"
+  local tmp="$target.$$"
+  if ! g++ -O2 -std=c++14 -fPIC -shared -DNDEBUG -DKERNEL_SOURCES_CKSUM="$sum" -Wno-deprecated-declarations \
+       -I/usr/include/freefem++ -I/usr/include/suitesparse "$PLUGINS/$name.cpp" -o "$tmp" "$@"; then
+    rm -f "$tmp"; echo "run.sh: error: cannot build $target from $PLUGINS/$name.cpp" >&2; exit 1
   fi
-  mv "$tmp" "$KERNEL"
-  echo "$sources" > "$KERNEL.sources"
-  echo "run.sh: built $KERNEL" >&2
+  mv "$tmp" "$target"
+  echo "$sum" > "$target.cksum"
+  echo "run.sh: built $target" >&2
+}
+build_kernel() {
+  build_plugin contactkernel "contactkernel.cpp contactlaw.hpp" -lcholmod -llapack -lblas
+  build_plugin runtools "runtools.cpp"
 }
 
 ensure_dependencies() { # ensure_dependencies [solve]

@@ -55,11 +55,15 @@
 //   contactNewtonEnd()   restores r after a step
 //   contactKernelCounters(real[int] info)   [line-search cuts, augmentation halvings, Newton
 //       matrix factorizations, low-rank corrections], over the run
-//   contactKernelWallClock()   wall-clock seconds (steady clock)
+//   contactKernelSourcesChanged(string folder)   1 if folder/contactkernel.cpp and
+//       folder/contactlaw.hpp are not the sources this kernel was built from (./run.sh passes
+//       their POSIX cksum as KERNEL_SOURCES_CKSUM), 0 if they are or if that is unknown
 #include "ff++.hpp"
 #include "AFunction_ext.hpp"
 #include <cholmod.h>
-#include <chrono>
+#include <cstdint>
+#include <cstdio>
+#include <fstream>
 #include <iostream>
 #include <string>
 #include <vector>
@@ -105,18 +109,22 @@ SolverParameters SP;
 
 long parameter(string *const &name, const double &value) {
   const std::string &key = *name;
+  bool law = true;                             // a law parameter: the slots must be set again
   if (key == "cnu") L.P.cnu = value;
   else if (key == "mu") L.P.mu = value;
   else if (key == "eps") L.P.eps = value;
   else if (key == "problem") L.P.penalty = value != 0;
   else if (key == "penaltyform") L.P.literal = value != 0;
-  else if (key == "tol") SP.tol = value;
-  else if (key == "maxit") SP.maxit = (int)value;
-  else if (key == "safeguard") SP.safeguards = value != 0;
-  else if (key == "r") SP.r = value;
-  else if (key == "dt") SP.dt = value;
-  else ExecError("contactKernelParameter: unknown parameter '" + key + "'");
-  N.ready = false;                             // the slots must be set again from the new law
+  else {
+    law = false;
+    if (key == "tol") SP.tol = value;
+    else if (key == "maxit") SP.maxit = (int)value;
+    else if (key == "safeguard") SP.safeguards = value != 0;
+    else if (key == "r") SP.r = value;
+    else if (key == "dt") SP.dt = value;
+    else ExecError("contactKernelParameter: unknown parameter '" + key + "'");
+  }
+  if (law) N.ready = false;
   return 0;
 }
 
@@ -151,8 +159,11 @@ long nodes(KN<double> *const &px, KN<double> *const &pw, KN<double> *const &pg, 
   std::string why;
   for (int i = 0; i < nn; i++)
     if (checkDampedResponse(L.P, g[i], why)) {
-      std::cerr << "error: the damped response of edp/plugins/contactlaw.hpp cannot be used: " << why
-                << " (c_nu = " << L.P.cnu << ", g = " << g[i] << ")" << std::endl;
+      // FreeFEM points std::cerr at the standard output: write to stderr itself
+      std::fflush(nullptr);
+      std::fprintf(stderr, "error: the damped response of edp/plugins/contactlaw.hpp cannot be used: %s (c_nu = %g, g = %g)\n",
+                   why.c_str(), L.P.cnu, g[i]);
+      std::fflush(stderr);
       return 1;
     }
   N.ready = true;
@@ -878,8 +889,38 @@ long counters(KN<double> *const &pinfo) {
   return 0;
 }
 
-double wallClock() {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
+// POSIX cksum (CRC-32, polynomial 0x04C11DB7, then the length) of the files' concatenation,
+// as `cat FILES | cksum` prints it; -1 if a file cannot be read
+long long posixChecksum(const std::vector<std::string> &files) {
+  std::uint32_t table[256];
+  for (std::uint32_t i = 0; i < 256; i++) {
+    std::uint32_t c = i << 24;
+    for (int k = 0; k < 8; k++) c = (c & 0x80000000u) ? (c << 1) ^ 0x04C11DB7u : c << 1;
+    table[i] = c;
+  }
+  std::uint32_t crc = 0;
+  unsigned long long length = 0;
+  for (const std::string &name : files) {
+    std::ifstream f(name, std::ios::binary);
+    if (!f) return -1;
+    char buffer[65536];
+    while (f.read(buffer, sizeof buffer) || f.gcount() > 0) {
+      for (std::streamsize i = 0; i < f.gcount(); i++)
+        crc = (crc << 8) ^ table[((crc >> 24) ^ (unsigned char)buffer[i]) & 0xFF];
+      length += f.gcount();
+    }
+  }
+  for (unsigned long long n = length; n > 0; n >>= 8) crc = (crc << 8) ^ table[((crc >> 24) ^ (n & 0xFF)) & 0xFF];
+  return (long long)(~crc);
+}
+
+long sourcesChanged(string *const &folder) {
+#ifdef KERNEL_SOURCES_CKSUM
+  const long long sum = posixChecksum({*folder + "/contactkernel.cpp", *folder + "/contactlaw.hpp"});
+  return sum != (long long)KERNEL_SOURCES_CKSUM;
+#else
+  return 0;
+#endif
 }
 
 }  // namespace
@@ -907,7 +948,7 @@ static void Load_Init() {
   Global.Add("contactNewtonAccept", "(", new OneOperator3_<long, double, double, long>(newtonAccept));
   Global.Add("contactNewtonEnd", "(", new OneOperator0<long>(newtonEnd));
   Global.Add("contactKernelCounters", "(", new OneOperator1_<long, KN<double> *>(counters));
-  Global.Add("contactKernelWallClock", "(", new OneOperator0<double>(wallClock));
+  Global.Add("contactKernelSourcesChanged", "(", new OneOperator1_<long, string *>(sourcesChanged));
 }
 
 LOADFUNC(Load_Init)

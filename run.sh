@@ -42,6 +42,9 @@ kernel_buildable() {
 build_plugin() { # build_plugin NAME "SOURCES..." [LIBRARIES...]: (re)build edp/plugins/build/NAME.so
   local name="$1" sources="$2"; shift 2
   local target="$PLUGINS/build/$name.so" sum file
+  for file in $sources; do
+    [ -r "$PLUGINS/$file" ] || { echo "run.sh: error: cannot read $PLUGINS/$file (a source of the $name plugin)" >&2; exit 1; }
+  done
   # shellcheck disable=SC2086
   sum="$(cd "$PLUGINS" && cat $sources | cksum | cut -d' ' -f1)"
   [ -f "$target" ] && [ "$(cat "$target.cksum" 2>/dev/null)" = "$sum" ] && return 0

@@ -224,6 +224,25 @@ awk '!/^#/ { vn = $2 > 0 ? $2 : 0; d = $4 - $5 - 1000 * vn * vn; if (d < 0) d = 
 "$PYTHON" tests/check_results.py "$work/otherlaw-compiled" --compare "$work/otherlaw-paper" --other-law --rtol 1e-6 > /dev/null 2>&1 \
   && { echo "the quadratic law gives the paper law's results" >> "$diag"; status=1; }
 report $status "a law changed only in edp/plugins/contactlaw.hpp (p = c r^2): compiled = script Newton to 1e-9, outputs follow it" "$diag"
+# a law the solvers cannot use is refused when the run starts (exit 3, no output): p' that
+# does not match p (exercise 1 with the slope forgotten), a zone function out of 0..4
+law_refused() { # law_refused NAME OLD NEW REGEX: the copy's law with OLD replaced by NEW
+  local name="$1" old="$2" new="$3" regex="$4" diag="$work/otherlaw-$1.diag" status=0 rc=0
+  cp edp/plugins/contactlaw.hpp "$law"
+  OLD="$old" NEW="$new" "$PYTHON" -c 'import os, sys; p = sys.argv[1]; s = open(p).read(); o, n = os.environ["OLD"], os.environ["NEW"]
+assert o in s, "not found: " + o; open(p, "w").write(s.replace(o, n))' "$law" > "$diag" 2>&1 || status=1
+  (cd "$other" && bash run.sh solve "${otherlaw_options[@]}" -out "$root/$work/otherlaw-$name") >> "$diag" 2>&1 || rc=$?
+  [ "$rc" = 3 ] || { echo "exit code $rc, expected 3" >> "$diag"; status=1; }
+  grep -Eq "$regex" "$diag" || { echo "message does not match /$regex/" >> "$diag"; status=1; }
+  [ -e "$work/otherlaw-$name" ] && { echo "results were written" >> "$diag"; status=1; }
+  report $status "refused: a law with $name in edp/plugins/contactlaw.hpp" "$diag"
+}
+law_refused "a slope that does not match p" "{ return P.cnu * std::max(r, 0.); }" "{ return P.cnu * std::max(r, 0.) * std::max(r, 0.); }" \
+  "the law of edp/plugins/contactlaw.hpp cannot be used: p'.* but the difference quotient of p there is"
+law_refused "a zone out of 0..4" "return normal > 0 ? 2 * normal - tangential : 0;" "return normal > 0 ? 2 * normal + tangential : 0;" \
+  "cannot be used: zone\(2, 1\) is not a zone 0..4"
+law_refused "a negative friction bound" "{ return P.mu * dampedResponse(P, vn); }" "{ return -P.mu * dampedResponse(P, vn); }" \
+  "cannot be used: the friction bound is not finite and >= 0"
 diag="$work/umfpackfloor.diag"; : > "$diag"; status=0
 if solve "${coarse_options[@]}" -umfpackfloor on -out "$work/umfpackfloor" > "$diag" 2>&1; then
   for key in time_backsubstitution time_backsubstitution_umfpack time_factorization_umfpack; do
@@ -385,6 +404,25 @@ expect_failure "unknown umfpackfloor" 2 "option -umfpackfloor = 'yes' is not one
 expect_failure "unknown penalty form" 2 "option -penaltyform = 'soft' is not one of compliant.literal" -penaltyform soft
 expect_failure "unknown scene" 2 "option -scene = 'moon'" -scene moon
 expect_failure "scene file with a bad line" 3 "cannot read 'gravity 9.81'" -scene tests/data/bad.scene
+grep -v '^nx ' edp/scenes/column.scene > "$work/nx0.scene"; echo "nx 0" >> "$work/nx0.scene"
+expect_failure "an option out of range in a scene file" 3 "nx0.scene:[0-9]+: option -nx = 0 is out of range: it must be >= 1 \(a value of the scene file\)" -scene "$work/nx0.scene"
+# the option table edp/options.txt is checked when it is read: a copy of edp/ with one line changed
+table_refused() { # table_refused NAME OLD NEW REGEX
+  local name="$1" old="$2" new="$3" regex="$4" diag="$work/table.diag" status=0 rc=0 copy="$work/table"
+  rm -rf "$copy" "$work/table-out" && mkdir -p "$copy/meshes" && cp -r edp "$copy/" && cp meshes/*.geo "$copy/meshes/" && rm -rf "$copy/edp/plugins/build"
+  OLD="$old" NEW="$new" "$PYTHON" -c 'import os, sys; p = sys.argv[1]; s = open(p).read(); o, n = os.environ["OLD"], os.environ["NEW"]
+assert o in s, "not found: " + o; open(p, "w").write(s.replace(o, n, 1))' "$copy/edp/options.txt" > "$diag" 2>&1 || status=1
+  "${FREEFEM[@]}" "$copy/edp/solve.edp" -out "$work/table-out" >> "$diag" 2>&1 || rc=$?
+  [ "$rc" = 3 ] || { echo "exit code $rc, expected 3" >> "$diag"; status=1; }
+  grep -Eq "$regex" "$diag" || { echo "message does not match /$regex/" >> "$diag"; status=1; }
+  { [ -e "$work/table-out" ] || ls -d "$work"/table-out.partial* > /dev/null 2>&1; } && { echo "results were written" >> "$diag"; status=1; }
+  report $status "refused: an option table with $name" "$diag"
+}
+table_refused "a missing option" "tol           real" "tolerance     real" "options.txt has no option -tol, which the scripts need"
+table_refused "a malformed range" "nx            int     >=1,<=4096" "nx            int     >=1," "options.txt:[0-9]+: the range of -nx must read"
+table_refused "an unknown type" "problem       choice" "problem       choise" "options.txt:[0-9]+: type 'choise' of -problem is not one of"
+table_refused "a rule on an unknown option" "when solver=fixedpoint r 0.01" "when solvr=fixedpoint r 0.01" "options.txt:[0-9]+: the rule names an option that is not in the table"
+table_refused "a default out of its range" ">=1e-13             1e-10" ">=1e-13             1e-20" "options.txt:[0-9]+: the default of -tol"
 expect_failure "missing mesh file" 3 "cannot read the file" -mesh "$work/no-such.msh"
 printf '$MeshFormat\n4.1 0 8\n$EndMeshFormat\n' > "$work/v41.msh"
 expect_failure "MSH 4.1 mesh" 3 "gmsh format 4.1, not 2.2: re-export it with: gmsh -2 -format msh22" -mesh "$work/v41.msh"

@@ -24,7 +24,7 @@
 //       safeguard (0/1), r, dt
 //   contactKernelNodes(real[int] x, real[int] w, real[int] g, int[int] normalSlot,
 //       int[int] tangentSlot)  the contact nodes (sorted by x): weight, velocity bound, slots
-//       (-1: none); returns 1 if the damped response of contactlaw.hpp is unusable (the
+//       (-1: none); returns 1 if the law of contactlaw.hpp is unusable (checkLaw; the
 //       reason is printed on stderr)
 //   contactKernelDampingSlope(real[int] Kn)   Kn per slot (p'(g) on normal slots), folded into S
 //   contactKernelFactorize(matrix S, matrix C)   returns 0, or 1 (S not positive definite),
@@ -158,11 +158,11 @@ long nodes(KN<double> *const &px, KN<double> *const &pw, KN<double> *const &pg, 
   for (int j = 0; j < slots; j++) { L.setBound(j, g[owner[j]]); L.setAugmentation(j, SP.r); }
   std::string why;
   for (int i = 0; i < nn; i++)
-    if (checkDampedResponse(L.P, g[i], why)) {
+    if (checkLaw(L.P, g[i], why)) {
       // FreeFEM points std::cerr at the standard output: write to stderr itself
       std::fflush(nullptr);
-      std::fprintf(stderr, "error: the damped response of edp/plugins/contactlaw.hpp cannot be used: %s (c_nu = %g, g = %g)\n",
-                   why.c_str(), L.P.cnu, g[i]);
+      std::fprintf(stderr, "error: the law of edp/plugins/contactlaw.hpp cannot be used: %s (c_nu = %g, mu = %g, g = %g)\n",
+                   why.c_str(), L.P.cnu, L.P.mu, g[i]);
       std::fflush(stderr);
       return 1;
     }

@@ -10,6 +10,7 @@
 #define CONTACTLAW_HPP
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <string>
 #include <vector>
 
@@ -204,31 +205,62 @@ struct Slots {
   }
 };
 
-// Is p (with its slope) a damped response the solvers can use? 0 if so; otherwise 1 and a
-// sentence in why: p(r) = 0 for r <= 0, nondecreasing, slope consistent with p.
-inline int checkDampedResponse(const Parameters &P, double g, std::string &why) {
-  const double pg = dampedResponse(P, g), scale = std::max(std::fabs(pg) / g, 1e-300);
-  for (double r : {-g, -0.5 * g, 0.})
-    if (dampedResponse(P, r) != 0 || dampedResponseSlope(P, r) != 0) {
-      why = "p(r) or p'(r) is not 0 at r = " + std::to_string(r) + " <= 0";
-      return 1;
-    }
+// Is the law above one the solvers can use? 0 if so; otherwise 1 and a sentence in why.
+// Checked when a run starts, on 65 points r of [-g, 8g] (the range a run's velocities reach;
+// a law can only be sampled): p(r) = p'(r) = 0 for r <= 0; p finite and nondecreasing; the
+// friction bound finite and >= 0; each slope equal to the difference quotient on its left,
+// its right or across r (a kink at r takes the slope on its left); the statuses and zones in
+// their ranges.
+inline int checkLaw(const Parameters &P, double g, std::string &why) {
+  auto text = [](double x) { char b[32]; std::snprintf(b, sizeof b, "%g", x); return std::string(b); };
+  const double h = 1e-7 * g;
+  // |slope - difference quotient of f at r| small on one side or across r
+  auto matches = [h](double (*f)(const Parameters &, double), const Parameters &P, double r, double slope, double scale) {
+    const double left = (f(P, r) - f(P, r - h)) / h, right = (f(P, r + h) - f(P, r)) / h;
+    const double across = (f(P, r + h) - f(P, r - h)) / (2 * h);
+    for (double q : {left, right, across})
+      if (std::fabs(slope - q) <= 1e-4 * (std::fabs(q) + scale)) return true;
+    return false;
+  };
+  const double pScale = std::max(std::fabs(dampedResponse(P, g)) / g, 1e-300);
+  const double fScale = std::max(std::fabs(frictionBound(P, g)) / g, 1e-300);
   double previous = 0;
-  for (int k = 1; k <= 16; k++) {
-    const double r = g * k / 8., h = 1e-5 * g;
-    const double value = dampedResponse(P, r), slope = dampedResponseSlope(P, r);
-    const double quotient = (dampedResponse(P, r + h) - dampedResponse(P, r - h)) / (2 * h);
-    if (!std::isfinite(value) || value < previous || slope < 0) {
-      why = "p is not finite and nondecreasing near r = " + std::to_string(r);
+  for (int k = -8; k <= 64; k++) {
+    const double r = g * k / 8.;
+    const double p = dampedResponse(P, r), slope = dampedResponseSlope(P, r);
+    const double F = frictionBound(P, r), Fslope = frictionBoundSlope(P, r);
+    if (k <= 0 && (p != 0 || slope != 0)) { why = "p(r) or p'(r) is not 0 at r = " + text(r) + " <= 0"; return 1; }
+    if (!std::isfinite(p) || !std::isfinite(slope) || p < previous || slope < 0) {
+      why = "p is not finite and nondecreasing at r = " + text(r);
       return 1;
     }
-    if (std::fabs(slope - quotient) > 1e-4 * (std::fabs(quotient) + scale)) {
-      why = "p'(" + std::to_string(r) + ") = " + std::to_string(slope) + " but the difference quotient of p there is "
-            + std::to_string(quotient);
+    if (!std::isfinite(F) || !std::isfinite(Fslope) || F < 0) {
+      why = "the friction bound is not finite and >= 0 at v_nu = " + text(r);
       return 1;
     }
-    previous = value;
+    if (k > 0 && !matches(dampedResponse, P, r, slope, pScale)) {
+      why = "p'(" + text(r) + ") = " + text(slope) + " but the difference quotient of p there is "
+            + text((dampedResponse(P, r + h) - dampedResponse(P, r - h)) / (2 * h));
+      return 1;
+    }
+    if (!matches(frictionBound, P, r, Fslope, fScale)) {
+      why = "frictionBoundSlope(" + text(r) + ") = " + text(Fslope) + " but the difference quotient of frictionBound there is "
+            + text((frictionBound(P, r + h) - frictionBound(P, r - h)) / (2 * h));
+      return 1;
+    }
+    previous = p;
+    const int normal = normalStatus(r, g), tangential = tangentialStatus(r - g, g);
+    if (normal < 0 || normal > 2 || tangential < 0 || tangential > 1) {
+      why = "a status is out of its range at v = " + text(r) + " (normal 0..2, tangential 0..1)";
+      return 1;
+    }
   }
+  for (int normal = 0; normal <= 2; normal++)
+    for (int tangential = 0; tangential <= 1; tangential++)
+      if (zone(normal, tangential) < 0 || zone(normal, tangential) > 4) {
+        why = "zone(" + text(normal) + ", " + text(tangential) + ") is not a zone 0..4";
+        return 1;
+      }
   return 0;
 }
 

@@ -7,6 +7,7 @@
 //   runError(int code, string message)   "error: message" on stderr (nothing when empty),
 //       then exit with code (no FreeFEM trace)
 //   runWallClock()                       wall-clock seconds (steady clock)
+//   runFileReadable(string path)         1 if path is a regular file this process can read
 #include "ff++.hpp"
 #include "AFunction_ext.hpp"
 #include <chrono>
@@ -14,6 +15,8 @@
 #include <cstdlib>
 #include <iostream>
 #include <string>
+#include <sys/stat.h>
+#include <unistd.h>
 
 namespace {
 
@@ -32,6 +35,11 @@ long runError(const long &code, string *const &message) {
   return code;
 }
 
+long runFileReadable(string *const &path) {
+  struct stat status;
+  return stat(path->c_str(), &status) == 0 && S_ISREG(status.st_mode) && access(path->c_str(), R_OK) == 0;
+}
+
 double runWallClock() {
   return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
 }
@@ -41,6 +49,7 @@ double runWallClock() {
 static void Load_Init() {
   Global.Add("runError", "(", new OneOperator2_<long, long, string *>(runError));
   Global.Add("runWallClock", "(", new OneOperator0<double>(runWallClock));
+  Global.Add("runFileReadable", "(", new OneOperator1_<long, string *>(runFileReadable));
 }
 
 LOADFUNC(Load_Init)

@@ -393,6 +393,7 @@ expect_failure "g <= 0" 2 "option -g = 0 is out of range: it must be > 0" -g 0
 expect_failure "mu < 0" 2 "option -mu = -0.4 is out of range: it must be >= 0" -mu -0.4
 expect_failure "eps <= 0" 2 "option -eps = 0 is out of range: it must be > 0" -eps 0
 expect_failure "tol <= 0" 2 "option -tol = -1e-10 is out of range: it must be >= 1e-13" -tol -1e-10
+expect_failure "tol too large for the checks" 2 "option -tol = 1 is out of range: it must be <= 1e-4" -tol 1
 expect_failure "maxit < 1" 2 "option -maxit = 0 is out of range: it must be >= 1" -maxit 0
 expect_failure "r <= 0" 2 "option -r = 0 is out of range: it must be > 0" -r 0
 expect_failure "unknown problem" 2 "option -problem = 'dual' is not one of original\|penalty" -problem dual

@@ -423,7 +423,7 @@ table_refused "a missing option" "tol           real" "tolerance     real" "opti
 table_refused "a malformed range" "nx            int     >=1,<=4096" "nx            int     >=1," "options.txt:[0-9]+: the range of -nx must read"
 table_refused "an unknown type" "problem       choice" "problem       choise" "options.txt:[0-9]+: type 'choise' of -problem is not one of"
 table_refused "a rule on an unknown option" "when solver=fixedpoint r 0.01" "when solvr=fixedpoint r 0.01" "options.txt:[0-9]+: the rule names an option that is not in the table"
-table_refused "a default out of its range" ">=1e-13             1e-10" ">=1e-13             1e-20" "options.txt:[0-9]+: the default of -tol"
+table_refused "a default out of its range" ">=1e-13,<=1e-4      1e-10" ">=1e-13,<=1e-4      1e-20" "options.txt:[0-9]+: the default of -tol"
 expect_failure "missing mesh file" 3 "cannot read the file" -mesh "$work/no-such.msh"
 printf '$MeshFormat\n4.1 0 8\n$EndMeshFormat\n' > "$work/v41.msh"
 expect_failure "MSH 4.1 mesh" 3 "gmsh format 4.1, not 2.2: re-export it with: gmsh -2 -format msh22" -mesh "$work/v41.msh"

@@ -89,6 +89,14 @@ FREEFEM=(FreeFem++-nw -ns -v 0)
 
 solve() { "${FREEFEM[@]}" "$here/edp/solve.edp" "$@"; }
 
+# The main job runs each solve as a child and waits for it, so that a signal to run.sh reaches
+# the solve too (it then removes its unfinished folder) before run.sh stops.
+child=""
+forward_signal() { # forward_signal NAME NUMBER
+  [ -n "$child" ] && kill -s "$1" "$child" 2>/dev/null && wait "$child" 2>/dev/null
+  exit $((128 + $2))
+}
+
 # The eps values of the penalty study (Fig. 5): decades from 1e-1 to 1e-8.
 EPS_STUDY=(1e-1 1e-2 1e-3 1e-4 1e-5 1e-6 1e-7 1e-8)
 
@@ -96,9 +104,12 @@ run_logged() { # run_logged LABEL OPTIONS...: one progress line per run
   local label="$1"; shift
   local start end
   start=$(date +%s.%N)
-  if ! solve "$@" > "$results/.log" 2>&1; then
+  solve "$@" > "$results/.log" 2>&1 &
+  child=$!
+  if ! wait "$child"; then
     cat "$results/.log" >&2; echo "run.sh: error: $label failed" >&2; exit 1
   fi
+  child=""
   end=$(date +%s.%N)
   printf 'run.sh: %-44s %5.2f s  %s\n' "$label" "$(awk -v a="$start" -v b="$end" 'BEGIN { print b - a }')" "$(grep -o 'zones on Gamma3: .*;' "$results/.log" | sed 's/;$//')"
 }
@@ -131,8 +142,10 @@ main_job() {
 command="${1:-main}"
 [ $# -gt 0 ] && shift
 case "$command" in
-  main) ensure_dependencies; main_job ;;
-  solve) ensure_dependencies solve; solve "$@" ;;
+  main)
+    trap 'forward_signal TERM 15' TERM; trap 'forward_signal INT 2' INT; trap 'forward_signal HUP 1' HUP
+    ensure_dependencies; main_job ;;
+  solve) ensure_dependencies solve; exec "${FREEFEM[@]}" "$here/edp/solve.edp" "$@" ;;   # a signal reaches the solve
   test) ensure_dependencies; exec bash "$here/tests/run_tests.sh" "$@" ;;
   bench) ensure_dependencies; exec bash "$here/tests/bench.sh" "$@" ;;
   stability) ensure_dependencies; exec bash "$here/tests/stability.sh" "$@" ;;

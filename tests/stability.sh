@@ -59,7 +59,7 @@ run_point() {
   local sweep="$1" id="$2" limit="$3"; shift 3
   local dir="$runs/$sweep/$id" log="$runs/$sweep/$id.log" rec="$runs/$sweep/$id.rec"
   mkdir -p "$runs/$sweep"
-  rm -rf "$dir" "$dir.partial"
+  rm -rf "$dir"
   local start end rc=0
   start=$(date +%s.%N)
   timeout -k 5 "$limit" FreeFem++-nw -ns -v 0 edp/solve.edp "$@" -out "$dir" > "$log" 2>&1 || rc=$?
@@ -67,8 +67,7 @@ run_point() {
   local message left=0 probes=""
   message="$(grep -m1 '^error:' "$log" | sed 's/^error: //' || true)"
   if [ "$rc" != 0 ]; then
-    { [ -e "$dir" ] || [ -e "$dir.partial" ]; } && left=1
-    rm -rf "$dir.partial"
+    { [ -e "$dir" ] || compgen -G "$dir.partial.*" > /dev/null; } && left=1
   fi
   if [ "$rc" = 4 ] && [ "$sweep" != hopeless ] && [[ "$message" == *"iteration cap reached"* ]]; then
     probes="$(probe_failure "$dir" "$limit" "$@")"
@@ -113,7 +112,7 @@ probe_failure() {
     [ "$m" -ge 1 ] || continue
     for ((i = 0; i < ${#args[@]}; i++)); do [ "${args[$i]}" = -maxit ] && args[$((i + 1))]="$m"; done
     line="$(timeout -k 5 "$limit" FreeFem++-nw -ns -v 0 edp/solve.edp "${args[@]}" -out "$dir.probe" 2>&1 | grep -m1 '^error:' || true)"
-    rm -rf "$dir.probe" "$dir.probe.partial"
+    rm -rf "$dir.probe"
     step="$(echo "$line" | sed -n 's/.*step \([0-9]*\) (t = .*/\1/p')"
     residual="$(echo "$line" | sed -n 's/.*, residual \([^ ]*\) > tol.*/\1/p')"
     result+="${result:+,}$m:${step:-ok}:${residual:--}"

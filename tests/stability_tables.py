@@ -252,7 +252,7 @@ def write_hopeless(path, rows):
     checks = []
     with open(path, "w") as f:
         f.write("# hopeless settings: each must exit non-zero, print its error message and leave no output folder\n")
-        f.write("# (neither OUT nor OUT.partial). ok = all three. The message follows on the next line.\n")
+        f.write("# (neither OUT nor OUT.partial.PID). ok = all three. The message follows on the next line.\n")
         f.write("# id exit mode message_printed output_left ok options\n")
         for row in rows:
             rec = row["record"]

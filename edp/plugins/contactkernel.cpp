@@ -29,6 +29,7 @@
 //   contactKernelDampingSlope(real[int] Kn)   Kn per slot (p'(g) on normal slots), folded into S
 //   contactKernelFactorize(matrix S, matrix C)   returns 0, or 1 (S not positive definite),
 //       2 (CHOLMOD failed)
+//   contactKernelLargestEntry(matrix S)   the largest |S_ij| (inf or nan if one is not finite)
 //   contactKernelDelassus(real[int,int] Dw)   Dw = C S^-1 C' diag(W); sets r_j = r / Dw_jj
 //   contactKernelAugmentation(real[int] r)    other r_j (the fixed point's)
 //   contactKernelSolve(real[int] b, real[int] x)    x = S^-1 b
@@ -322,6 +323,17 @@ long factorizeOrFail(MatriceMorse<double> &S, MatriceMorse<double> &C) {
   F.z.assign(n, 0.);
   F.haveForward = false;
   return 0;
+}
+
+double largestEntry(Matrice_Creuse<double> *const &pS) {
+  MatriceMorse<double> &S = *morse(pS);
+  double largest = 0;
+  for (size_t k = 0; k < S.nnz; k++) {
+    const double a = std::fabs(S.aij[k]);
+    if (!std::isfinite(a)) return a;
+    largest = std::max(largest, a);
+  }
+  return largest;
 }
 
 void requireFactor(const char *who) {
@@ -931,6 +943,7 @@ static void Load_Init() {
   Global.Add("contactKernelDampingSlope", "(", new OneOperator1_<long, KN<double> *>(dampingSlope));
   Global.Add("contactKernelFactorize", "(", new OneOperator2_<long, Matrice_Creuse<double> *, Matrice_Creuse<double> *>(factorize));
   Global.Add("contactKernelDelassus", "(", new OneOperator1_<long, KNM<double> *>(delassus));
+  Global.Add("contactKernelLargestEntry", "(", new OneOperator1_<double, Matrice_Creuse<double> *>(largestEntry));
   Global.Add("contactKernelAugmentation", "(", new OneOperator1_<long, KN<double> *>(augmentation));
   Global.Add("contactKernelSolve", "(", new OneOperator2_<long, KN<double> *, KN<double> *>(solve));
   Global.Add("contactKernelFree", "(", new OneOperator2_<long, KN<double> *, KN<double> *>(freeVelocity));

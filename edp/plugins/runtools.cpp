@@ -1,24 +1,135 @@
 // runtools.cpp: what a run needs from the operating system, as a FreeFEM plugin (load
-// "runtools"), built by ./run.sh into edp/plugins/build/ like the kernel. FreeFEM's own
-// cerr writes to the standard output, and its exit() prints trace lines; its clock() is CPU
-// time and time() has a resolution of one second.
+// "runtools"), built by ./run.sh into edp/plugins/build/ like the kernel. No shell ever sees
+// a value of the user's: files and folders are handled by system calls, gmsh is started with
+// an argument vector. (FreeFEM's own cerr writes to the standard output, its exit() prints
+// trace lines, its ofstream hides write errors, and it has no wall clock.)
 //
-// FreeFEM functions:
-//   runError(int code, string message)   "error: message" on stderr (nothing when empty),
-//       then exit with code (no FreeFEM trace)
+// The run folder (docs/design.md, section "Output files"). A run writes OUT.partial.<pid>/,
+// holding a lock on OUT/ (flock on the folder itself, created empty if needed) from start to
+// end; at the end it writes OUT.partial.<pid>/run.complete, listing its files, and swaps the
+// folders (OUT -> OUT.replaced.<pid>, OUT.partial.<pid> -> OUT), then removes the replaced one.
+// An existing OUT/ is replaced only if it is empty or holds exactly the files its own
+// run.complete lists; a second run on a locked OUT/ is refused. On an error (runError) or
+// a signal (SIGINT, SIGTERM, SIGHUP), the run removes what it created and nothing else.
+//
+// FreeFEM functions (exit codes: 2 option, 3 scene or mesh data, 7 output folder or file):
+//   runError(int code, string message)   remove what the run created, "error: message" on
+//       stderr (nothing when empty), exit with code (no FreeFEM trace)
 //   runWallClock()                       wall-clock seconds (steady clock)
+//   runProcessId()                       this process's id
 //   runFileReadable(string path)         1 if path is a regular file this process can read
+//   runChecksum(string path)             the POSIX cksum of a file (-1: unreadable)
+//   runByteOrderMark(string path)        3 if the file starts with a UTF-8 byte order mark, else 0
+//   runFolderOpen(string out)            lock OUT, check it may be replaced, make OUT.partial.<pid>
+//   runFileComplete(string path, int lines)   the file has exactly that many complete lines,
+//       and is on the disk (fsync); exit 7 otherwise (a full disk, an I/O error)
+//   runCopyFile(string from, string to)  0, or 1 if it cannot be copied completely
+//   runRemoveFile(string path)           remove a file this run wrote (a temporary copy)
+//   runRename(string from, string to)    0, or 1
+//   runMakeFolders(string path)          mkdir -p; 0, or 1
+//   runFolderFinish()                    run.complete, then OUT.partial.<pid> -> OUT
+//   runGmsh(string geo, string out, string numbers)  gmsh -2 -format msh22 -v 0
+//       -setnumber NAME VALUE ... geo -o out; its exit status (127: no gmsh)
+//   runCheckMesh(string in, string out, string required, string dirichlet, string what,
+//       int fatal)   check a gmsh MSH 2.2 file before FreeFEM reads it (see checkMesh below)
+//       and write it to out, clockwise triangles reoriented; on a problem: exit 3 with
+//       "what: why" (fatal), or return 1; exit 7 if out cannot be written
 #include "ff++.hpp"
 #include "AFunction_ext.hpp"
+#include <algorithm>
+#include <array>
+#include <cerrno>
 #include <chrono>
+#include <cmath>
+#include <csignal>
+#include <cstdint>
 #include <cstdio>
 #include <cstdlib>
+#include <cstring>
+#include <dirent.h>
+#include <fcntl.h>
+#include <fstream>
 #include <iostream>
+#include <map>
+#include <set>
+#include <sstream>
+#include <spawn.h>
 #include <string>
+#include <sys/file.h>
 #include <sys/stat.h>
+#include <sys/syscall.h>
+#include <sys/wait.h>
 #include <unistd.h>
+#include <vector>
+
+extern char **environ;
 
 namespace {
+
+const char *completeMarker = "run.complete";
+const char *completeSignature =
+  "# run.complete: written last by edp/solve.edp, once every file listed below was complete and every end-of-run check had passed";
+
+// ---------------------------------------------------------------- the run folder's state
+// Kept in fixed buffers too, for the signal handler (which may only make system calls).
+struct RunFolder {
+  std::string out, partial;
+  int lock = -1;              // flock on OUT while the run holds it
+  bool createdOut = false;    // OUT did not exist: made empty here, removed on failure
+  bool partialMade = false;   // OUT.partial.<pid> exists and is ours
+};
+RunFolder RF;
+char partialPathC[4096], outPathC[4096];
+volatile sig_atomic_t cleanPartial = 0, cleanOut = 0;
+
+void syncBuffers() {
+  cleanPartial = 0; cleanOut = 0;
+  std::snprintf(partialPathC, sizeof partialPathC, "%s", RF.partial.c_str());
+  std::snprintf(outPathC, sizeof outPathC, "%s", RF.out.c_str());
+  cleanOut = RF.createdOut && RF.lock >= 0;
+  cleanPartial = RF.partialMade;
+}
+
+struct Dirent64 { std::uint64_t ino; std::int64_t off; unsigned short reclen; unsigned char type; char name[]; };
+
+// Remove the folder `name` under parent and all it holds, with system calls only (the signal
+// handler uses it). Entries are read again after each pass: deleting while reading may skip.
+void removeTreeAt(int parent, const char *name, int depth) {
+  int fd = openat(parent, name, O_RDONLY | O_DIRECTORY | O_NOFOLLOW);
+  if (fd < 0) { unlinkat(parent, name, 0); return; }
+  char buffer[8192];
+  for (int pass = 0; pass < 4; pass++) {
+    lseek(fd, 0, SEEK_SET);
+    bool any = false;
+    long n;
+    while ((n = syscall(SYS_getdents64, fd, buffer, sizeof buffer)) > 0)
+      for (long pos = 0; pos < n;) {
+        Dirent64 *d = reinterpret_cast<Dirent64 *>(buffer + pos);
+        pos += d->reclen;
+        if (std::strcmp(d->name, ".") == 0 || std::strcmp(d->name, "..") == 0) continue;
+        any = true;
+        if (d->type == DT_DIR && depth < 8) removeTreeAt(fd, d->name, depth + 1);
+        else if (unlinkat(fd, d->name, 0) != 0 && errno == EISDIR && depth < 8) removeTreeAt(fd, d->name, depth + 1);
+      }
+    if (!any) break;
+  }
+  close(fd);
+  unlinkat(parent, name, AT_REMOVEDIR);
+}
+void removeTree(const char *path) { removeTreeAt(AT_FDCWD, path, 0); }
+
+// what the run created, and only that
+void cleanUp() {
+  if (cleanPartial) removeTree(partialPathC);
+  if (cleanOut) rmdir(outPathC);                    // only if still empty
+  cleanPartial = 0; cleanOut = 0;
+}
+
+void onSignal(int signal) {
+  cleanUp();
+  std::signal(signal, SIG_DFL);
+  raise(signal);
+}
 
 // FreeFEM points std::cerr at the standard output: write to file descriptor 2 itself
 void toStderr(const std::string &text) {
@@ -27,29 +138,512 @@ void toStderr(const std::string &text) {
   std::fflush(stderr);
 }
 
-long runError(const long &code, string *const &message) {
+[[noreturn]] void fail(int code, const std::string &message) {
   std::cout.flush();
-  if (!message->empty()) toStderr("error: " + *message + "\n");
+  cleanUp();
+  if (!message.empty()) toStderr("error: " + message + "\n");
   std::fflush(nullptr);
-  std::_Exit((int)code);
-  return code;
+  std::_Exit(code);
 }
+
+long runError(const long &code, string *const &message) { fail((int)code, *message); }
+
+double runWallClock() {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
+}
+long runProcessId() { return (long)getpid(); }
 
 long runFileReadable(string *const &path) {
   struct stat status;
   return stat(path->c_str(), &status) == 0 && S_ISREG(status.st_mode) && access(path->c_str(), R_OK) == 0;
 }
 
-double runWallClock() {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
+// POSIX cksum (CRC-32, polynomial 0x04C11DB7, then the length), as `cksum FILE` prints it
+long long posixChecksum(const std::string &path) {
+  std::uint32_t table[256];
+  for (std::uint32_t i = 0; i < 256; i++) {
+    std::uint32_t c = i << 24;
+    for (int k = 0; k < 8; k++) c = (c & 0x80000000u) ? (c << 1) ^ 0x04C11DB7u : c << 1;
+    table[i] = c;
+  }
+  std::ifstream f(path, std::ios::binary);
+  if (!f) return -1;
+  std::uint32_t crc = 0;
+  unsigned long long length = 0;
+  char buffer[65536];
+  while (f.read(buffer, sizeof buffer) || f.gcount() > 0) {
+    for (std::streamsize i = 0; i < f.gcount(); i++) crc = (crc << 8) ^ table[((crc >> 24) ^ (unsigned char)buffer[i]) & 0xFF];
+    length += f.gcount();
+  }
+  for (unsigned long long n = length; n > 0; n >>= 8) crc = (crc << 8) ^ table[((crc >> 24) ^ (n & 0xFF)) & 0xFF];
+  return (long long)(~crc);
+}
+long runChecksum(string *const &path) { return (long)posixChecksum(*path); }
+long runByteOrderMark(string *const &path) {
+  std::ifstream f(*path, std::ios::binary);
+  char head[3] = {0, 0, 0};
+  f.read(head, 3);
+  return f.gcount() == 3 && std::memcmp(head, "\xEF\xBB\xBF", 3) == 0 ? 3 : 0;
+}
+
+std::string errorText() { return std::strerror(errno); }
+
+// the entries of a folder (no . and ..), and whether each is a folder; false if unreadable
+bool listFolder(const std::string &path, std::vector<std::pair<std::string, bool>> &entries) {
+  entries.clear();
+  int fd = open(path.c_str(), O_RDONLY | O_DIRECTORY);
+  if (fd < 0) return false;
+  char buffer[8192];
+  long n;
+  while ((n = syscall(SYS_getdents64, fd, buffer, sizeof buffer)) > 0)
+    for (long pos = 0; pos < n;) {
+      Dirent64 *d = reinterpret_cast<Dirent64 *>(buffer + pos);
+      pos += d->reclen;
+      if (std::strcmp(d->name, ".") && std::strcmp(d->name, "..")) entries.push_back({d->name, d->type == DT_DIR});
+    }
+  close(fd);
+  std::sort(entries.begin(), entries.end());
+  return n == 0;
+}
+
+bool makeFolders(const std::string &path) {
+  std::string partial;
+  std::stringstream in(path);
+  std::string part;
+  if (!path.empty() && path[0] == '/') partial = "/";
+  while (std::getline(in, part, '/')) {
+    if (part.empty()) continue;
+    partial += part;
+    if (mkdir(partial.c_str(), 0777) != 0 && errno != EEXIST) return false;
+    partial += "/";
+  }
+  struct stat status;
+  return stat(path.c_str(), &status) == 0 && S_ISDIR(status.st_mode);
+}
+long runMakeFolders(string *const &path) { return makeFolders(*path) ? 0 : 1; }
+
+// "" if the folder may be replaced by a run (empty, or exactly the files of its
+// run.complete), else why not
+std::string whyNotReplaceable(const std::string &folder) {
+  std::vector<std::pair<std::string, bool>> entries;
+  if (!listFolder(folder, entries)) return "cannot be read (" + errorText() + ")";
+  if (entries.empty()) return "";
+  std::set<std::string> listed;
+  std::ifstream f(folder + "/" + completeMarker);
+  std::string line;
+  if (!f || !std::getline(f, line) || line != completeSignature) {
+    for (auto &e : entries)
+      if (e.first == "summary.txt")
+        return "holds a summary.txt but no run.complete (results of an older version of this suite, or of a run "
+               "that did not finish)";
+    return "is a folder that does not hold results of this suite (no run.complete)";
+  }
+  while (std::getline(f, line)) if (!line.empty()) listed.insert(line);
+  std::string foreign;
+  for (auto &e : entries)
+    if (e.first != completeMarker && (e.second || !listed.count(e.first))) foreign += (foreign.empty() ? "" : ", ") + e.first;
+  if (!foreign.empty()) return "holds files that this suite did not write there (" + foreign + ")";
+  return "";
+}
+
+// the processes whose OUT.partial.<pid> folders exist beside OUT
+std::string otherRuns(const std::string &out) {
+  std::string parent = ".", base = out;
+  const size_t slash = out.rfind('/');
+  if (slash != std::string::npos) { parent = slash == 0 ? "/" : out.substr(0, slash); base = out.substr(slash + 1); }
+  std::vector<std::pair<std::string, bool>> entries;
+  listFolder(parent, entries);
+  std::string found;
+  const std::string prefix = base + ".partial.";
+  for (auto &e : entries)
+    if (e.second && e.first.compare(0, prefix.size(), prefix) == 0 && e.first.substr(prefix.size()) != std::to_string(getpid()))
+      found += (found.empty() ? "" : ", ") + e.first.substr(prefix.size());
+  return found.empty() ? "" : " (process " + found + ")";
+}
+
+long runFolderOpen(string *const &outText) {
+  std::string out = *outText;
+  while (out.size() > 1 && out.back() == '/') out.pop_back();
+  const size_t slash = out.rfind('/');
+  const std::string base = slash == std::string::npos ? out : out.substr(slash + 1);
+  if (out == "/" || base == "." || base == ".." || base.empty() || out[0] == '-')
+    fail(2, "option -out = '" + *outText + "' is not a usable folder name (give a new or results folder, e.g. results/run)");
+  struct stat status;
+  if (lstat(out.c_str(), &status) == 0 && !S_ISDIR(status.st_mode)) fail(7, "option -out = '" + out + "' exists and is not a folder");
+  RF = RunFolder();
+  RF.out = out;
+  RF.partial = out + ".partial." + std::to_string(getpid());
+  const std::string parent = slash == std::string::npos ? "." : (slash == 0 ? "/" : out.substr(0, slash));
+  if (!makeFolders(parent))
+    fail(7, "cannot create the output folder " + RF.partial + " (option -out = " + out + "): " + errorText());
+  for (int attempt = 0; attempt < 2; attempt++) {
+    if (stat(out.c_str(), &status) == 0) {
+      const std::string why = whyNotReplaceable(out);
+      if (!why.empty()) fail(7, "option -out = '" + out + "' " + why + ": it is not replaced; choose another -out");
+      break;
+    }
+    if (mkdir(out.c_str(), 0777) == 0) { RF.createdOut = true; break; }
+    if (errno != EEXIST) fail(7, "cannot create the output folder " + out + ": " + errorText());
+  }
+  RF.lock = open(out.c_str(), O_RDONLY | O_DIRECTORY);
+  if (RF.lock < 0) fail(7, "cannot open the output folder " + out + ": " + errorText());
+  if (flock(RF.lock, LOCK_EX | LOCK_NB) != 0) {
+    const int lockError = errno;
+    close(RF.lock); RF.lock = -1;
+    if (lockError == EWOULDBLOCK)
+      fail(7, "option -out = '" + out + "': another run" + otherRuns(out) + " is writing it; wait for it, or choose another -out");
+    fail(7, "cannot lock the output folder " + out + ": " + std::strerror(lockError));
+  }
+  syncBuffers();
+  // under the lock: nobody else writes OUT now, but someone may have before we held it
+  if (!RF.createdOut) {
+    const std::string why = whyNotReplaceable(out);
+    if (!why.empty()) fail(7, "option -out = '" + out + "' " + why + ": it is not replaced; choose another -out");
+  }
+  if (mkdir(RF.partial.c_str(), 0777) != 0)
+    fail(7, "cannot create the output folder " + RF.partial + " (option -out = " + out + "): " + errorText());
+  RF.partialMade = true;
+  syncBuffers();
+  return 0;
+}
+
+// a file this run wrote: exactly `lines` complete lines, then on the disk
+long runFileComplete(string *const &path, const long &lines) {
+  int fd = open(path->c_str(), O_RDONLY);
+  if (fd < 0) fail(7, "cannot read back " + *path + ": " + errorText());
+  long count = 0;
+  char last = '\n', buffer[65536];
+  ssize_t n;
+  while ((n = read(fd, buffer, sizeof buffer)) > 0) {
+    for (ssize_t i = 0; i < n; i++) count += buffer[i] == '\n';
+    last = buffer[n - 1];
+  }
+  const bool readOk = n == 0, synced = fsync(fd) == 0;
+  const std::string why = errorText();
+  close(fd);
+  if (!readOk || !synced) fail(7, "cannot write " + *path + ": " + why);
+  if (count != lines || last != '\n')
+    fail(7, "cannot write " + *path + " completely: " + std::to_string(count) + " of " + std::to_string(lines)
+            + " lines are there (is the disk full?)");
+  return 0;
+}
+
+bool copyFile(const std::string &from, const std::string &to) {
+  int in = open(from.c_str(), O_RDONLY);
+  if (in < 0) return false;
+  int out = open(to.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0666);
+  if (out < 0) { close(in); return false; }
+  char buffer[65536];
+  ssize_t n;
+  bool ok = true;
+  while (ok && (n = read(in, buffer, sizeof buffer)) > 0)
+    for (ssize_t done = 0; ok && done < n;) {
+      ssize_t w = write(out, buffer + done, n - done);
+      if (w <= 0) ok = false; else done += w;
+    }
+  ok = ok && n == 0 && fsync(out) == 0;
+  close(in);
+  ok = close(out) == 0 && ok;
+  if (!ok) unlink(to.c_str());
+  return ok;
+}
+long runCopyFile(string *const &from, string *const &to) { return copyFile(*from, *to) ? 0 : 1; }
+long runRemoveFile(string *const &path) { return unlink(path->c_str()) == 0 ? 0 : 1; }
+long runRename(string *const &from, string *const &to) { return rename(from->c_str(), to->c_str()) == 0 ? 0 : 1; }
+
+void syncFolder(const std::string &path) {
+  int fd = open(path.c_str(), O_RDONLY | O_DIRECTORY);
+  if (fd >= 0) { fsync(fd); close(fd); }
+}
+
+long runFolderFinish() {
+  if (!RF.partialMade || RF.lock < 0) fail(7, "runFolderFinish without runFolderOpen");
+  std::vector<std::pair<std::string, bool>> entries;
+  if (!listFolder(RF.partial, entries)) fail(7, "cannot read " + RF.partial + ": " + errorText());
+  std::string marker = std::string(completeSignature) + "\n";
+  for (auto &e : entries) if (!e.second && e.first != completeMarker) marker += e.first + "\n";
+  const std::string path = RF.partial + "/" + completeMarker;
+  int fd = open(path.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0666);
+  bool ok = fd >= 0;
+  for (size_t done = 0; ok && done < marker.size();) {
+    ssize_t w = write(fd, marker.data() + done, marker.size() - done);
+    if (w <= 0) ok = false; else done += w;
+  }
+  ok = ok && fsync(fd) == 0;
+  if (fd >= 0) ok = close(fd) == 0 && ok;
+  if (!ok) fail(7, "cannot write " + path + ": " + errorText());
+  syncFolder(RF.partial);
+  const std::string replaced = RF.out + ".replaced." + std::to_string(getpid());
+  if (rename(RF.out.c_str(), replaced.c_str()) != 0) fail(7, "cannot move the earlier " + RF.out + " aside: " + errorText());
+  if (rename(RF.partial.c_str(), RF.out.c_str()) != 0) {
+    const std::string why = errorText();
+    rename(replaced.c_str(), RF.out.c_str());
+    fail(7, "cannot move " + RF.partial + " to " + RF.out + ": " + why);
+  }
+  RF.partialMade = false; RF.createdOut = false;
+  syncBuffers();
+  const size_t slash = RF.out.rfind('/');
+  syncFolder(slash == std::string::npos ? "." : (slash == 0 ? "/" : RF.out.substr(0, slash)));
+  removeTree(replaced.c_str());                      // the earlier complete run, or the empty folder made here
+  close(RF.lock); RF.lock = -1;
+  return 0;
+}
+
+// ---------------------------------------------------------------- gmsh, without a shell
+long runGmsh(string *const &geo, string *const &out, string *const &numbers) {
+  std::vector<std::string> args = {"gmsh", "-2", "-format", "msh22", "-v", "0"};
+  std::stringstream in(*numbers);
+  std::string name, value;
+  while (in >> name >> value) { args.push_back("-setnumber"); args.push_back(name); args.push_back(value); }
+  args.push_back(*geo); args.push_back("-o"); args.push_back(*out);
+  std::vector<char *> argv;
+  for (auto &a : args) argv.push_back(const_cast<char *>(a.c_str()));
+  argv.push_back(nullptr);
+  posix_spawn_file_actions_t actions;
+  posix_spawn_file_actions_init(&actions);
+  posix_spawn_file_actions_addopen(&actions, 1, "/dev/null", O_WRONLY, 0);
+  posix_spawn_file_actions_addopen(&actions, 2, "/dev/null", O_WRONLY, 0);
+  pid_t child;
+  const int spawned = posix_spawnp(&child, "gmsh", &actions, nullptr, argv.data(), environ);
+  posix_spawn_file_actions_destroy(&actions);
+  if (spawned != 0) return 127;
+  int status = 0;
+  while (waitpid(child, &status, 0) < 0 && errno == EINTR) {}
+  return WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
+}
+
+// ---------------------------------------------------------------- the mesh checker
+// A gmsh MSH 2.x ASCII file, as FreeFEM's gmshload would read it: every problem FreeFEM
+// would abort on, crash on or silently misread is named here instead.
+struct MeshProblem { std::string why; };
+struct WriteProblem { std::string why; };          // the checked copy could not be written
+
+struct Element { long id; int type; std::vector<long> tags, nodes; };
+
+std::string numberText(double x) { char b[32]; std::snprintf(b, sizeof b, "%g", x); return b; }
+
+void checkMesh(const std::string &path, const std::string &outPath, const std::string &required,
+               const std::string &dirichlet) {
+  std::ifstream f(path, std::ios::binary);
+  if (!f) throw MeshProblem{"cannot read the file"};
+  std::vector<std::string> lines;
+  std::string line;
+  while (std::getline(f, line)) {
+    if (!line.empty() && line.back() == '\r') line.pop_back();
+    lines.push_back(line);
+  }
+  if (!lines.empty() && lines[0].compare(0, 3, "\xEF\xBB\xBF") == 0) lines[0] = lines[0].substr(3);   // a UTF-8 BOM
+  auto fieldsOf = [](const std::string &text) {
+    std::vector<std::string> words;
+    std::stringstream in(text);
+    std::string w;
+    while (in >> w) words.push_back(w);
+    return words;
+  };
+  auto section = [&](const std::string &name) -> long {
+    for (size_t i = 0; i < lines.size(); i++) if (lines[i] == "$" + name) return (long)i;
+    return -1;
+  };
+  const long format = section("MeshFormat");
+  if (format < 0 || format + 1 >= (long)lines.size()) throw MeshProblem{"not a gmsh mesh file (no $MeshFormat section)"};
+  const std::vector<std::string> header = fieldsOf(lines[format + 1]);
+  if (header.size() < 3) throw MeshProblem{"not a gmsh mesh file (a $MeshFormat section without version)"};
+  if (header[0].compare(0, 2, "2.") != 0 && header[0] != "2")
+    throw MeshProblem{"gmsh format " + header[0] + ", not 2.2: re-export it with: gmsh -2 -format msh22 FILE.geo -o FILE.msh"};
+  if (header[1] != "0") throw MeshProblem{"binary MSH file: re-export it as text with: gmsh -2 -format msh22 FILE.geo -o FILE.msh"};
+  const long nodesAt = section("Nodes"), elementsAt = section("Elements");
+  if (nodesAt < 0 || elementsAt < 0) throw MeshProblem{"truncated file: no $Nodes or $Elements section"};
+  auto count = [&](long at, const char *what) {
+    if (at + 1 >= (long)lines.size()) throw MeshProblem{std::string("truncated file: no count after $") + what};
+    char *end = nullptr;
+    const long n = std::strtol(lines[at + 1].c_str(), &end, 10);
+    if (n < 0 || (end && *end)) throw MeshProblem{std::string("$") + what + " has no count: '" + lines[at + 1] + "'"};
+    if (at + 2 + n >= (long)lines.size() || lines[at + 2 + n] != std::string("$End") + what)
+      throw MeshProblem{std::string("$") + what + " declares " + std::to_string(n) + " entries but does not end after them "
+                        "(a truncated file?): no $End" + what + " there"};
+    return n;
+  };
+  // nodes: id x y z, ids unique, coordinates finite, one plane
+  const long nodeCount = count(nodesAt, "Nodes");
+  std::map<long, long> index;
+  std::vector<std::array<double, 2>> xy(nodeCount);
+  double xmin = INFINITY, xmax = -INFINITY, ymin = INFINITY, ymax = -INFINITY, z0 = 0;
+  for (long i = 0; i < nodeCount; i++) {
+    const std::string &text = lines[nodesAt + 2 + i];
+    std::stringstream in(text);
+    long id;
+    double x, y, z;
+    std::string rest;
+    if (!(in >> id >> x >> y >> z) || (in >> rest)) throw MeshProblem{"$Nodes: cannot read the node line '" + text + "'"};
+    if (!std::isfinite(x) || !std::isfinite(y) || !std::isfinite(z)) throw MeshProblem{"node " + std::to_string(id) + " has a non-finite coordinate"};
+    if (index.count(id)) throw MeshProblem{"node " + std::to_string(id) + " is defined twice"};
+    if (i == 0) z0 = z;
+    if (z != z0) throw MeshProblem{"node " + std::to_string(id) + " has z = " + numberText(z) + ": the mesh is not flat (2D meshes only)"};
+    index[id] = i;
+    xy[i] = {x, y};
+    xmin = std::min(xmin, x); xmax = std::max(xmax, x); ymin = std::min(ymin, y); ymax = std::max(ymax, y);
+  }
+  // elements: 2-node lines (boundary labels) and 3-node triangles; points are ignored
+  const long elementCount = count(elementsAt, "Elements");
+  std::vector<Element> triangles, edges;
+  std::map<std::vector<long>, long> seenTriangles, seenEdges;
+  for (long i = 0; i < elementCount; i++) {
+    const std::string &text = lines[elementsAt + 2 + i];
+    std::vector<std::string> w = fieldsOf(text);
+    Element e;
+    char *end = nullptr;
+    bool ok = w.size() >= 3;
+    std::vector<long> v;
+    for (auto &s : w) { v.push_back(std::strtol(s.c_str(), &end, 10)); ok = ok && end && !*end; }
+    if (!ok) throw MeshProblem{"$Elements: cannot read the element line '" + text + "'"};
+    e.id = v[0]; e.type = (int)v[1];
+    const long ntags = v[2];
+    const std::map<int, int> nodesOfType = {{1, 2}, {2, 3}, {15, 1}};
+    if (e.type == 8 || e.type == 9 || e.type == 16 || e.type == 21 || e.type == 23 || e.type == 25)
+      throw MeshProblem{"element " + std::to_string(e.id) + " is of order 2 or more (gmsh type " + std::to_string(e.type) +
+                        "): re-mesh with order 1 (gmsh -order 1)"};
+    if (e.type == 3 || e.type == 10)
+      throw MeshProblem{"element " + std::to_string(e.id) + " is a quadrangle (gmsh type " + std::to_string(e.type) +
+                        "): only triangles are supported (re-mesh without Recombine)"};
+    if (!nodesOfType.count(e.type))
+      throw MeshProblem{"element " + std::to_string(e.id) + " has gmsh type " + std::to_string(e.type) +
+                        ": only 3-node triangles (2), 2-node lines (1) and points (15) are supported (a 3D mesh?)"};
+    const long nodes = nodesOfType.at(e.type);
+    if (ntags < 0 || (long)v.size() != 3 + ntags + nodes)
+      throw MeshProblem{"element " + std::to_string(e.id) + ": " + std::to_string(v.size()) + " numbers, but its "
+                        + std::to_string(ntags) + " tags and " + std::to_string(nodes) + " nodes need " + std::to_string(3 + ntags + nodes)};
+    e.tags.assign(v.begin() + 3, v.begin() + 3 + ntags);
+    for (long k = 0; k < nodes; k++) {
+      const long id = v[3 + ntags + k];
+      if (!index.count(id)) throw MeshProblem{"element " + std::to_string(e.id) + " uses node " + std::to_string(id) + ", which is not defined"};
+      e.nodes.push_back(index.at(id));
+    }
+    std::vector<long> key = e.nodes;
+    std::sort(key.begin(), key.end());
+    if (std::adjacent_find(key.begin(), key.end()) != key.end())
+      throw MeshProblem{"element " + std::to_string(e.id) + " uses a node twice"};
+    if (e.type == 2) {
+      if (seenTriangles.count(key)) throw MeshProblem{"triangle " + std::to_string(e.id) + " repeats triangle " + std::to_string(seenTriangles[key])};
+      seenTriangles[key] = e.id;
+      triangles.push_back(e);
+    }
+    else if (e.type == 1) {
+      if (e.tags.empty()) e.tags.push_back(0);      // no physical tag: label 0, as FreeFEM reads it
+      if (seenEdges.count(key))
+        throw MeshProblem{"line element " + std::to_string(e.id) + " repeats line element " + std::to_string(seenEdges[key]) +
+                          " (the same edge listed twice would count its load or contact twice)"};
+      seenEdges[key] = e.id;
+      edges.push_back(e);
+    }
+  }
+  if (triangles.empty()) throw MeshProblem{"no triangle (does the .geo define a Physical Surface?)"};
+  // triangles: positive area, relative to the mesh's size; FreeFEM's reader needs >= 1e-8
+  const double scale = std::max(xmax - xmin, ymax - ymin);
+  std::vector<char> used(nodeCount, 0);
+  std::set<std::vector<long>> triangleEdges;
+  long reoriented = 0;
+  for (Element &t : triangles) {
+    const auto &a = xy[t.nodes[0]], &b = xy[t.nodes[1]], &c = xy[t.nodes[2]];
+    const double area = 0.5 * ((b[0] - a[0]) * (c[1] - a[1]) - (c[0] - a[0]) * (b[1] - a[1]));
+    if (!(std::fabs(area) > 1e-12 * scale * scale))
+      throw MeshProblem{"triangle " + std::to_string(t.id) + " has zero area"};
+    if (std::fabs(area) < 1e-8)
+      throw MeshProblem{"triangle " + std::to_string(t.id) + " has the area " + numberText(std::fabs(area)) +
+                        ", below the 1e-8 that FreeFEM's mesh reader accepts: give the lengths in a smaller unit (millimetres instead of metres, say, with the material data in matching units)"};
+    if (area < 0) { std::swap(t.nodes[1], t.nodes[2]); reoriented++; }
+    for (long k : t.nodes) used[k] = 1;
+    for (int k = 0; k < 3; k++) {
+      std::vector<long> edge = {t.nodes[k], t.nodes[(k + 1) % 3]};
+      std::sort(edge.begin(), edge.end());
+      triangleEdges.insert(edge);
+    }
+  }
+  for (long i = 0; i < nodeCount; i++)
+    if (!used[i]) {
+      long id = 0;
+      for (auto &p : index) if (p.second == i) id = p.first;
+      throw MeshProblem{"node " + std::to_string(id) + " is not a vertex of any triangle"};
+    }
+  std::set<long> labels;
+  for (Element &e : edges) {
+    std::vector<long> edge = e.nodes;
+    std::sort(edge.begin(), edge.end());
+    if (!triangleEdges.count(edge))
+      throw MeshProblem{"line element " + std::to_string(e.id) + " (physical tag " + std::to_string(e.tags[0]) +
+                        ") is not an edge of any triangle"};
+    labels.insert(e.tags[0]);
+  }
+  // the labels the suite needs ("LABEL ROLE ..."), then the scene's Dirichlet labels
+  std::stringstream in(required);
+  std::string label, role, missing, roles;
+  while (in >> label >> role) {
+    roles += (roles.empty() ? "" : ", ") + label + " " + role;
+    if (!labels.count(std::atol(label.c_str()))) missing += " " + label;
+  }
+  if (!missing.empty()) throw MeshProblem{"no boundary line with physical tag" + missing + " (Physical Curve " + roles + " are required)"};
+  std::stringstream scene(dirichlet);
+  while (scene >> label)
+    if (std::atol(label.c_str()) >= 0 && !labels.count(std::atol(label.c_str())))
+      throw MeshProblem{"the scene's dirichlet label " + label + " is not a physical curve of the mesh"};
+  // the mesh FreeFEM will read: the same nodes and elements, triangles counterclockwise
+  std::ofstream o(outPath, std::ios::binary | std::ios::trunc);
+  o.precision(17);
+  o << "$MeshFormat\n2.2 0 8\n$EndMeshFormat\n$Nodes\n" << nodeCount << "\n";
+  std::vector<long> idOf(nodeCount);
+  for (auto &p : index) idOf[p.second] = p.first;
+  for (long i = 0; i < nodeCount; i++) o << idOf[i] << " " << xy[i][0] << " " << xy[i][1] << " " << z0 << "\n";
+  o << "$EndNodes\n$Elements\n" << edges.size() + triangles.size() << "\n";
+  for (auto *group : {&edges, &triangles})
+    for (Element &e : *group) {
+      o << e.id << " " << e.type << " " << e.tags.size();
+      for (long t : e.tags) o << " " << t;
+      for (long k : e.nodes) o << " " << idOf[k];
+      o << "\n";
+    }
+  o << "$EndElements\n";
+  o.flush();
+  o.close();
+  if (!o) throw WriteProblem{"cannot write the checked mesh to " + outPath + " (is the disk full?)"};
+  int fd = open(outPath.c_str(), O_RDONLY);         // on the disk
+  const bool synced = fd >= 0 && fsync(fd) == 0;
+  if (fd >= 0) close(fd);
+  if (!synced) throw WriteProblem{"cannot write the checked mesh to " + outPath + ": " + errorText()};
+  (void)reoriented;
+}
+
+long runCheckMesh(string *const &in, string *const &out, string *const &required, string *const &dirichlet,
+                  string *const &what, const long &fatal) {
+  try {
+    checkMesh(*in, *out, *required, *dirichlet);
+  } catch (const MeshProblem &problem) {
+    if (fatal) fail(3, *what + ": " + problem.why);
+    return 1;
+  } catch (const WriteProblem &problem) {
+    fail(7, problem.why);
+  }
+  return 0;
 }
 
 }  // namespace
 
 static void Load_Init() {
+  // from the start: a signal at any moment removes what the run has created so far
+  for (int signal : {SIGINT, SIGTERM, SIGHUP}) std::signal(signal, onSignal);
   Global.Add("runError", "(", new OneOperator2_<long, long, string *>(runError));
   Global.Add("runWallClock", "(", new OneOperator0<double>(runWallClock));
+  Global.Add("runProcessId", "(", new OneOperator0<long>(runProcessId));
   Global.Add("runFileReadable", "(", new OneOperator1_<long, string *>(runFileReadable));
+  Global.Add("runChecksum", "(", new OneOperator1_<long, string *>(runChecksum));
+  Global.Add("runByteOrderMark", "(", new OneOperator1_<long, string *>(runByteOrderMark));
+  Global.Add("runFolderOpen", "(", new OneOperator1_<long, string *>(runFolderOpen));
+  Global.Add("runFileComplete", "(", new OneOperator2_<long, string *, long>(runFileComplete));
+  Global.Add("runCopyFile", "(", new OneOperator2_<long, string *, string *>(runCopyFile));
+  Global.Add("runRemoveFile", "(", new OneOperator1_<long, string *>(runRemoveFile));
+  Global.Add("runRename", "(", new OneOperator2_<long, string *, string *>(runRename));
+  Global.Add("runMakeFolders", "(", new OneOperator1_<long, string *>(runMakeFolders));
+  Global.Add("runFolderFinish", "(", new OneOperator0<long>(runFolderFinish));
+  Global.Add("runGmsh", "(", new OneOperator3_<long, string *, string *, string *>(runGmsh));
+  Global.Add("runCheckMesh", "(", new OneOperator6_<long, string *, string *, string *, string *, string *, long>(runCheckMesh));
 }
 
 LOADFUNC(Load_Init)

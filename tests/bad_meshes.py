@@ -1,0 +1,70 @@
+#!/usr/bin/python3
+"""Write malformed or degenerate variants of a good gmsh MSH 2.2 mesh, for the tests of the
+mesh checker (edp/plugins/runtools.cpp, runCheckMesh). Usage:
+  bad_meshes.py GOOD.msh OUTDIR
+writes OUTDIR/NAME.msh for each NAME of VARIANTS (one problem each)."""
+import os
+import sys
+
+import suite
+
+
+def variants(mesh_text):
+    """NAME -> text of the mesh with one problem."""
+    lines = mesh_text.split("\n")
+    at = {name: lines.index("$" + name) for name in ("Nodes", "Elements")}
+    nodes = lines[at["Nodes"] + 2:at["Nodes"] + 2 + int(lines[at["Nodes"] + 1])]
+    elements = lines[at["Elements"] + 2:at["Elements"] + 2 + int(lines[at["Elements"] + 1])]
+    head = lines[:at["Nodes"]]
+
+    def write(node_lines, element_lines):
+        return "\n".join(head + ["$Nodes", str(len(node_lines))] + node_lines + ["$EndNodes", "$Elements",
+                                 str(len(element_lines))] + element_lines + ["$EndElements", ""])
+
+    labels = suite.labels()
+    contact = str(labels["GammaContact"])
+    triangles = [e for e in elements if e.split()[1] == "2"]
+    lines_of = [e for e in elements if e.split()[1] == "1"]
+    contact_line = next(e for e in lines_of if e.split()[3] == contact)
+
+    def clockwise(e):
+        w = e.split()
+        w[-1], w[-2] = w[-2], w[-1]
+        return " ".join(w)
+
+    def scaled(factor):
+        out = []
+        for n in nodes:
+            w = n.split()
+            out.append(" ".join([w[0], repr(float(w[1]) * factor), repr(float(w[2]) * factor), w[3]]))
+        return out
+
+    last_id = max(int(e.split()[0]) for e in elements)
+    w = contact_line.split()
+    undefined = " ".join(w[:-1] + ["999999"])
+    quad = f"{last_id + 1} 3 2 1 1 " + " ".join(triangles[0].split()[-3:] + [triangles[1].split()[-1]])
+    order2 = f"{last_id + 1} 9 2 1 1 " + " ".join(triangles[0].split()[-3:] * 2)
+    return {
+        "clockwise": write(nodes, lines_of + [clockwise(t) for t in triangles]),
+        "undefined-node": write(nodes, [e if e != contact_line else undefined for e in elements]),
+        "twice-listed-edge": write(nodes, elements + [" ".join([str(last_id + 1)] + w[1:])]),
+        "quadrangle": write(nodes, elements + [quad]),
+        "order-2": write(nodes, elements + [order2]),
+        "micrometres": write(scaled(1e-6), elements),
+        "unused-node": write(nodes + [f"{len(nodes) + 1000} 0.5 0.5 0"], elements),
+        "truncated": mesh_text[:len(mesh_text) // 2],
+    }
+
+
+def main():
+    if len(sys.argv) != 3:
+        sys.exit("usage: bad_meshes.py GOOD.msh OUTDIR")
+    text = "\n".join(suite.read_lines(sys.argv[1]))
+    os.makedirs(sys.argv[2], exist_ok=True)
+    for name, mesh in variants(text).items():
+        with open(os.path.join(sys.argv[2], name + ".msh"), "w") as f:
+            f.write(mesh)
+
+
+if __name__ == "__main__":
+    suite.run_tool("bad_meshes.py", main)

@@ -181,7 +181,7 @@ while IFS='|' read -r misuse expected; do
 done <<'CASES'
 1|contactKernelSolve without a successful contactKernelFactorize
 2|contactKernelNewton: call contactKernelDelassus after the last contactKernelFactorize
-3|contactKernelFactorize: C has
+3|contactKernelFactorize: C has 32 rows, but contactKernelNodes gave 34 slots
 4|contactKernelNodes: slot numbers must be 0 .. slots-1, each used once
 5|contactKernelRecord: call contactKernelRecordStart
 6|contactKernelParameter: unknown parameter 'gravity'

@@ -7,7 +7,8 @@
 // The run folder (docs/design.md, section "Output files"). A run writes OUT.partial.<pid>/,
 // holding a lock on OUT/ (flock on the folder itself, created empty if needed) from start to
 // end; at the end it writes OUT.partial.<pid>/run.complete, listing its files, and swaps the
-// folders (OUT -> OUT.replaced.<pid>, OUT.partial.<pid> -> OUT), then removes the replaced one.
+// folders in one atomic exchange (renameat2; else OUT -> OUT.replaced.<pid>, OUT.partial.<pid>
+// -> OUT), then removes the replaced one.
 // An existing OUT/ is replaced only if it is empty or holds exactly the files its own
 // run.complete lists; a second run on a locked OUT/ is refused. On an error (runError) or
 // a signal (SIGINT, SIGTERM, SIGHUP), the run removes what it created and nothing else.
@@ -80,7 +81,8 @@ struct RunFolder {
 };
 RunFolder RF;
 char partialPathC[4096], outPathC[4096];
-volatile sig_atomic_t cleanPartial = 0, cleanOut = 0;
+char madeParentC[16][4096];                          // parent folders of OUT made by this run (outermost first)
+volatile sig_atomic_t cleanPartial = 0, cleanOut = 0, madeParents = 0;
 
 void syncBuffers() {
   cleanPartial = 0; cleanOut = 0;
@@ -122,11 +124,15 @@ void removeTree(const char *path) { removeTreeAt(AT_FDCWD, path, 0); }
 void cleanUp() {
   if (cleanPartial) removeTree(partialPathC);
   if (cleanOut) rmdir(outPathC);                    // only if still empty
-  cleanPartial = 0; cleanOut = 0;
+  for (int k = madeParents - 1; k >= 0; k--) rmdir(madeParentC[k]);   // only those still empty
+  cleanPartial = 0; cleanOut = 0; madeParents = 0;
 }
 
 void onSignal(int signal) {
+  const bool removed = cleanPartial;
   cleanUp();
+  const char *note = removed ? "interrupted: the run removed its unfinished output folder\n" : "interrupted\n";
+  if (write(2, note, std::strlen(note)) < 0) {}
   std::signal(signal, SIG_DFL);
   raise(signal);
 }
@@ -206,7 +212,8 @@ bool listFolder(const std::string &path, std::vector<std::pair<std::string, bool
   return n == 0;
 }
 
-bool makeFolders(const std::string &path) {
+// mkdir -p; with record, the folders it made are removed again if the run fails
+bool makeFolders(const std::string &path, bool record = false) {
   std::string partial;
   std::stringstream in(path);
   std::string part;
@@ -214,7 +221,10 @@ bool makeFolders(const std::string &path) {
   while (std::getline(in, part, '/')) {
     if (part.empty()) continue;
     partial += part;
-    if (mkdir(partial.c_str(), 0777) != 0 && errno != EEXIST) return false;
+    if (mkdir(partial.c_str(), 0777) == 0) {
+      if (record && madeParents < 16) std::snprintf(madeParentC[madeParents++], sizeof madeParentC[0], "%s", partial.c_str());
+    }
+    else if (errno != EEXIST) return false;
     partial += "/";
   }
   struct stat status;
@@ -256,9 +266,30 @@ std::string otherRuns(const std::string &out) {
   std::string found;
   const std::string prefix = base + ".partial.";
   for (auto &e : entries)
-    if (e.second && e.first.compare(0, prefix.size(), prefix) == 0 && e.first.substr(prefix.size()) != std::to_string(getpid()))
-      found += (found.empty() ? "" : ", ") + e.first.substr(prefix.size());
+    if (e.second && e.first.compare(0, prefix.size(), prefix) == 0) {
+      const std::string pid = e.first.substr(prefix.size());
+      const long number = std::atol(pid.c_str());
+      if (number > 0 && number != getpid() && kill((pid_t)number, 0) == 0) found += (found.empty() ? "" : ", ") + pid;
+    }
   return found.empty() ? "" : " (process " + found + ")";
+}
+
+// a note on stderr for each OUT.partial.<pid> of a process that no longer runs (killed with
+// SIGKILL): the suite never removes what it did not create in this run
+void noteLeftovers(const std::string &out) {
+  std::string parent = ".", base = out;
+  const size_t slash = out.rfind('/');
+  if (slash != std::string::npos) { parent = slash == 0 ? "/" : out.substr(0, slash); base = out.substr(slash + 1); }
+  std::vector<std::pair<std::string, bool>> entries;
+  listFolder(parent, entries);
+  const std::string prefix = base + ".partial.";
+  for (auto &e : entries)
+    if (e.second && e.first.compare(0, prefix.size(), prefix) == 0) {
+      const long number = std::atol(e.first.substr(prefix.size()).c_str());
+      if (number > 0 && number != getpid() && kill((pid_t)number, 0) != 0 && errno == ESRCH)
+        toStderr("note: " + parent + "/" + e.first + " is left from a run that was killed (process " + std::to_string(number) +
+                 " no longer runs); it holds no results, and you may delete it\n");
+    }
 }
 
 long runFolderOpen(string *const &outText) {
@@ -274,7 +305,8 @@ long runFolderOpen(string *const &outText) {
   RF.out = out;
   RF.partial = out + ".partial." + std::to_string(getpid());
   const std::string parent = slash == std::string::npos ? "." : (slash == 0 ? "/" : out.substr(0, slash));
-  if (!makeFolders(parent))
+  madeParents = 0;
+  if (!makeFolders(parent, true))
     fail(7, "cannot create the output folder " + RF.partial + " (option -out = " + out + "): " + errorText());
   for (int attempt = 0; attempt < 2; attempt++) {
     if (stat(out.c_str(), &status) == 0) {
@@ -302,6 +334,7 @@ long runFolderOpen(string *const &outText) {
   }
   if (mkdir(RF.partial.c_str(), 0777) != 0)
     fail(7, "cannot create the output folder " + RF.partial + " (option -out = " + out + "): " + errorText());
+  noteLeftovers(out);
   RF.partialMade = true;
   syncBuffers();
   return 0;
@@ -373,14 +406,21 @@ long runFolderFinish() {
   if (fd >= 0) ok = close(fd) == 0 && ok;
   if (!ok) fail(7, "cannot write " + path + ": " + errorText());
   syncFolder(RF.partial);
-  const std::string replaced = RF.out + ".replaced." + std::to_string(getpid());
-  if (rename(RF.out.c_str(), replaced.c_str()) != 0) fail(7, "cannot move the earlier " + RF.out + " aside: " + errorText());
-  if (rename(RF.partial.c_str(), RF.out.c_str()) != 0) {
-    const std::string why = errorText();
-    rename(replaced.c_str(), RF.out.c_str());
-    fail(7, "cannot move " + RF.partial + " to " + RF.out + ": " + why);
+  // one atomic exchange: OUT is never missing, so no other run can take it meanwhile (the
+  // earlier OUT, still locked, lands at OUT.partial.<pid>); where the file system cannot
+  // exchange, two renames
+  std::string replaced = RF.partial;
+  if (syscall(SYS_renameat2, AT_FDCWD, RF.partial.c_str(), AT_FDCWD, RF.out.c_str(), 2 /* RENAME_EXCHANGE */) != 0) {
+    replaced = RF.out + ".replaced." + std::to_string(getpid());
+    if (rename(RF.out.c_str(), replaced.c_str()) != 0) fail(7, "cannot move the earlier " + RF.out + " aside: " + errorText());
+    if (rename(RF.partial.c_str(), RF.out.c_str()) != 0) {
+      const std::string why = errorText();
+      rename(replaced.c_str(), RF.out.c_str());
+      fail(7, "cannot move " + RF.partial + " to " + RF.out + ": " + why);
+    }
   }
   RF.partialMade = false; RF.createdOut = false;
+  madeParents = 0;
   syncBuffers();
   const size_t slash = RF.out.rfind('/');
   syncFolder(slash == std::string::npos ? "." : (slash == 0 ? "/" : RF.out.substr(0, slash)));

@@ -21,11 +21,15 @@
 // FreeFEM functions (they return 0 unless said; misuse stops the run with an error):
 //   contactKernelParameter(string name, real value)  a parameter, by its option name: cnu, mu,
 //       eps, problem (0 original, 1 penalty), penaltyform (0 compliant, 1 literal), tol, maxit,
-//       safeguard (0/1), r, dt
+//       safeguard (0/1), r, dt; and the scene's damping family: damping (0 linear, 1 power,
+//       2 table), alpha
+//   contactKernelDampingTable(real[int] r, real[int] p)   the points of the table family
 //   contactKernelNodes(real[int] x, real[int] w, real[int] g, int[int] normalSlot,
 //       int[int] tangentSlot)  the contact nodes (sorted by x): weight, velocity bound, slots
 //       (-1: none); returns 1 if the law of contactlaw.hpp is unusable (checkLaw; the
 //       reason is printed on stderr)
+//   contactKernelNodeVelocity(matrix O)   v -> (v_nu, v_tau) of every node (rows 2i, 2i + 1):
+//       what the nodes report (a node may have fewer slots than velocities)
 //   contactKernelDampingSlope(real[int] Kn)   Kn per slot (p'(g) on normal slots), folded into S
 //   contactKernelFactorize(matrix S, matrix C)   returns 0, or 1 (S not positive definite),
 //       2 (CHOLMOD failed)
@@ -94,6 +98,8 @@ using namespace contactlaw;
 // ---------------------------------------------------------------- the contact nodes and the law
 struct Contact {
   std::vector<double> nodeX, nodeW, nodeG;
+  std::vector<int> observeStart, observeColumn;          // v -> v_nu, v_tau per node (CSR)
+  std::vector<double> observeValue;
   std::vector<int> normalSlot, tangentSlot;    // per node, -1: none
   std::vector<double> weight;                  // W per slot: its node's weight
   bool ready = false;
@@ -111,7 +117,9 @@ SolverParameters SP;
 long parameter(string *const &name, const double &value) {
   const std::string &key = *name;
   bool law = true;                             // a law parameter: the slots must be set again
-  if (key == "cnu") L.P.cnu = value;
+  if (key == "damping") L.P.damping = (int)value;
+  else if (key == "alpha") L.P.alpha = value;
+  else if (key == "cnu") L.P.cnu = value;
   else if (key == "mu") L.P.mu = value;
   else if (key == "eps") L.P.eps = value;
   else if (key == "problem") L.P.penalty = value != 0;
@@ -126,6 +134,15 @@ long parameter(string *const &name, const double &value) {
     else ExecError("contactKernelParameter: unknown parameter '" + key + "'");
   }
   if (law) N.ready = false;
+  return 0;
+}
+
+long dampingTable(KN<double> *const &pr, KN<double> *const &pp) {
+  KN<double> &r = *pr, &p = *pp;
+  if (r.N() != p.N() || r.N() < 2) ExecError("contactKernelDampingTable: two arrays of at least two points, of one size");
+  L.P.tableR.assign(r.N(), 0.); L.P.tableP.assign(p.N(), 0.);
+  for (int k = 0; k < r.N(); k++) { L.P.tableR[k] = r[k]; L.P.tableP[k] = p[k]; }
+  N.ready = false;
   return 0;
 }
 
@@ -170,6 +187,8 @@ long nodes(KN<double> *const &px, KN<double> *const &pw, KN<double> *const &pg, 
   N.ready = true;
   return 0;
 }
+
+long nodeVelocity(Matrice_Creuse<double> *const &pO);
 
 void requireNodes(const char *who) {
   if (!N.ready) ExecError(std::string(who) + ": call contactKernelNodes first (after the last contactKernelParameter)");
@@ -334,6 +353,37 @@ double largestEntry(Matrice_Creuse<double> *const &pS) {
     largest = std::max(largest, a);
   }
   return largest;
+}
+
+long nodeVelocity(Matrice_Creuse<double> *const &pO) {
+  requireNodes("contactKernelNodeVelocity");
+  MatriceMorse<double> &O = *morse(pO);
+  const int nn = N.nodeX.size();
+  if (O.n != 2 * nn) ExecError("contactKernelNodeVelocity: two rows per node expected");
+  O.COO();
+  std::vector<std::vector<std::pair<int, double>>> rows(2 * nn);
+  for (size_t k = 0; k < O.nnz; k++) rows[O.i[k]].push_back({O.j[k], O.aij[k]});
+  N.observeStart.assign(1, 0); N.observeColumn.clear(); N.observeValue.clear();
+  for (auto &row : rows) {
+    for (auto &e : row) { N.observeColumn.push_back(e.first); N.observeValue.push_back(e.second); }
+    N.observeStart.push_back(N.observeColumn.size());
+  }
+  return 0;
+}
+
+// v_nu, v_tau of every node from v (the observation rows); without them, from the slots
+void nodeVelocities(const double *v, const std::vector<double> &cv, std::vector<double> &ov) {
+  const int nn = N.nodeX.size();
+  ov.assign(2 * nn, 0.);
+  if (N.observeStart.size() == (size_t)(2 * nn + 1)) {
+    for (int r = 0; r < 2 * nn; r++)
+      for (int e = N.observeStart[r]; e < N.observeStart[r + 1]; e++) ov[r] += N.observeValue[e] * v[N.observeColumn[e]];
+    return;
+  }
+  for (int i = 0; i < nn; i++) {
+    if (N.normalSlot[i] >= 0) ov[2 * i] = cv[N.normalSlot[i]];
+    if (N.tangentSlot[i] >= 0) ov[2 * i + 1] = cv[N.tangentSlot[i]];
+  }
 }
 
 void requireFactor(const char *who) {
@@ -528,17 +578,17 @@ long multiply(KN<double> *const &pv, KN<double> *const &pMv, KN<double> *const &
 }
 
 // ---------------------------------------------------------------- nodal values, the record
-// The values of node i from the slot velocities cv and the contact stresses Lam, with the
-// statuses of contactlaw.hpp (+ 0. turns -0 into 0).
+// The values of node i from its velocities ov (nodeVelocities) and the contact stresses Lam,
+// with the statuses of contactlaw.hpp (+ 0. turns -0 into 0).
 struct NodeValues {
   double vn, vt, pn, ln, lt, bound;
   int normal, tangential;
 };
-NodeValues nodeValues(int i, const double *cv, const double *Lam) {
+NodeValues nodeValues(int i, const double *ov, const double *Lam) {
   const int sn = N.normalSlot[i], st = N.tangentSlot[i];
   NodeValues s;
-  s.vn = (sn >= 0 ? cv[sn] : 0.) + 0.;
-  s.vt = (st >= 0 ? cv[st] : 0.) + 0.;
+  s.vn = ov[2 * i] + 0.;
+  s.vt = ov[2 * i + 1] + 0.;
   s.pn = sn >= 0 ? Lam[sn] : 0.;
   s.lt = st >= 0 ? Lam[st] : 0.;
   s.ln = (sn >= 0 ? s.pn - dampedResponse(L.P, s.vn) : 0.) + 0.;
@@ -553,13 +603,14 @@ long nodal(KN<double> *const &pv, KN<double> *const &pLam, KNM<double> *const &p
   requireFactor("contactKernelNodal");
   KN<double> &v = *pv, &Lam = *pLam;
   if (v.N() != F.n || Lam.N() != F.nc) ExecError("contactKernelNodal: wrong argument sizes");
-  std::vector<double> vv = copyOf(v), lam = copyOf(Lam), cv;
+  std::vector<double> vv = copyOf(v), lam = copyOf(Lam), cv, ov;
   slotVelocities(vv.data(), cv);
+  nodeVelocities(vv.data(), cv, ov);
   KNM<double> &table = *ptable;
   const int nn = N.nodeX.size();
   table.resize(nn, 10);
   for (int i = 0; i < nn; i++) {
-    const NodeValues s = nodeValues(i, cv.data(), lam.data());
+    const NodeValues s = nodeValues(i, ov.data(), lam.data());
     const int sn = N.normalSlot[i] >= 0 ? N.normalSlot[i] : N.tangentSlot[i];
     const double row[10] = {s.vn, s.vt, s.pn, s.ln, s.lt, (double)s.normal, (double)s.tangential, s.bound,
                             L.forceScale[sn], (double)zone(s.normal, s.tangential)};
@@ -643,11 +694,12 @@ long stepRecord(KN<double> *const &pv, KN<double> *const &pu, KN<double> *const 
   rec[0] = kinetic; rec[1] = elastic; rec[2] = numerical; rec[3] = viscous; rec[4] = contactWork;
   rec[5] = external; rec[6] = largest > 0 ? std::fabs(balance) / largest : 0.; rec[7] = kineticJump;
   rec[8] = elasticJump;
-  std::vector<double> lam = copyOf(Lam);
+  std::vector<double> lam = copyOf(Lam), ov;
+  nodeVelocities(pv0, cv, ov);
   double normalForce = 0, tangentialForce = 0, xB = 1e300, xC = 1e300;
   long zones[5] = {0, 0, 0, 0, 0};
   for (size_t i = 0; i < N.nodeX.size(); i++) {
-    const NodeValues s = nodeValues(i, cv.data(), lam.data());
+    const NodeValues s = nodeValues(i, ov.data(), lam.data());
     zones[zone(s.normal, s.tangential)]++;
     if (s.normal == 2) xB = std::min(xB, N.nodeX[i]);
     if (s.normal > 0 && s.tangential == 0) xC = std::min(xC, N.nodeX[i]);
@@ -678,6 +730,7 @@ struct Newton {
   // the cycle guard: a fingerprint of the relations at each iteration of the step
   std::vector<double> seen;
   std::vector<double> rDefault;        // r_j at the start of a step
+  bool lastFull = true;                // the last accepted step was a full Newton step
   double merit = 0;                    // of the last accepted iterate
 };
 Newton Q;
@@ -783,10 +836,13 @@ bool newtonSolve(const double *b, double *x) {
 // Cycle guard: the relations of iteration it are fingerprinted (the pieces, and the
 // coefficients for a nonlinear p); when a fingerprint repeats within the step, r is halved on
 // every slot for the rest of the step (the solution does not depend on r, only which piece is
-// tried next). The weights are fixed pseudo-random numbers in [1, 1009].
+// tried next). Only iterates that a full Newton step reached count: after a damped step (the
+// line search cut it) the same pieces are expected, not a cycle. The weights are fixed
+// pseudo-random numbers in [1, 1009].
 int guard(int it) {
   if ((int)Q.seen.size() < it + 1) Q.seen.resize(it + 1, -1.);
-  if (it == 0) { std::fill(Q.seen.begin(), Q.seen.end(), -1.); Q.rDefault = L.r; }
+  if (it == 0) { std::fill(Q.seen.begin(), Q.seen.end(), -1.); Q.rDefault = L.r; Q.lastFull = true; }
+  if (!Q.lastFull) { Q.seen[it] = -1.; return 0; }
   double fingerprint = 0;
   for (int j = 0; j < L.n; j++)
     fingerprint += (L.key[j] + 0.6180339887 * L.a[j] + 0.4142135624 * L.d[j]) * (1. + ((7919 * j + 104729) % 1009));
@@ -809,6 +865,7 @@ int guard(int it) {
 bool accept(double merit, double step, int cut, double residual) {
   const bool ok = !SP.safeguards || L.merit() < (1 - 1e-4 * step) * merit || residual <= SP.tol || cut == 10;
   if (!ok) Q.cuts++;
+  else Q.lastFull = cut == 0;
   return ok;
 }
 void endStep() {
@@ -835,7 +892,11 @@ long newton(KN<double> *const &pcFree, KN<double> *const &pc, KN<double> *const 
   int it = 0;
   while (true) {
     L.relations(c.data());
-    guard(it);
+    if (guard(it)) {                 // r halved: the pieces, relations and merit of this iterate with it
+      residual = L.evaluate(c.data(), m.data());
+      merit = L.merit();
+      L.relations(c.data());
+    }
     if (!sameAsPrepared() && !newtonPrepare()) { residual = NAN; break; }
     for (int j = 0; j < nc; j++) rhs[j] = L.h[j] - L.a[j] * cFree[L.slot[j]];
     previous = m;
@@ -939,7 +1000,9 @@ long sourcesChanged(string *const &folder) {
 
 static void Load_Init() {
   Global.Add("contactKernelParameter", "(", new OneOperator2_<long, string *, double>(parameter));
+  Global.Add("contactKernelDampingTable", "(", new OneOperator2_<long, KN<double> *, KN<double> *>(dampingTable));
   Global.Add("contactKernelNodes", "(", new OneOperator5_<long, KN<double> *, KN<double> *, KN<double> *, KN<long> *, KN<long> *>(nodes));
+  Global.Add("contactKernelNodeVelocity", "(", new OneOperator1_<long, Matrice_Creuse<double> *>(nodeVelocity));
   Global.Add("contactKernelDampingSlope", "(", new OneOperator1_<long, KN<double> *>(dampingSlope));
   Global.Add("contactKernelFactorize", "(", new OneOperator2_<long, Matrice_Creuse<double> *, Matrice_Creuse<double> *>(factorize));
   Global.Add("contactKernelDelassus", "(", new OneOperator1_<long, KNM<double> *>(delassus));

@@ -18,8 +18,19 @@ namespace contactlaw {
 
 // The data of the law, set by name from edp/lib/contact.idp (contactKernelParameter and,
 // per node, contactKernelNodes).
+// The families of damped responses a scene can choose (scene key damping; docs/design.md,
+// section "Scenes"):
+//   damping linear C              p(r) = C r_+, the paper's (C is -cnu)
+//   damping power C ALPHA         p(r) = C r_+^ALPHA, ALPHA >= 1 (C is -cnu)
+//   damping table r0 p0 r1 p1 ... p piecewise linear through the points, from (0, 0),
+//                                 nondecreasing, extended past the last point by its slope
+enum Damping { Linear = 0, Power = 1, Table = 2 };
+
 struct Parameters {
-  double cnu = 0;        // option -cnu: c_nu of the damped response
+  int damping = Linear;  // the family of p
+  double cnu = 0;        // option -cnu: C of the linear and power families
+  double alpha = 1;      // ALPHA of the power family
+  std::vector<double> tableR, tableP;   // the points of the table family
   double mu = 0;         // option -mu: friction coefficient
   double eps = 1;        // option -eps: penalty parameter
   bool penalty = false;  // option -problem penalty (else the original problem, v_nu <= g)
@@ -28,13 +39,38 @@ struct Parameters {
 
 // ======================= the law: what a user or a student changes =======================
 
+// The table family at r > 0: the segment (r_k, r_k+1] that holds r (the last one beyond it).
+inline int tableSegment(const Parameters &P, double r) {
+  int k = 0;
+  while (k + 2 < (int)P.tableR.size() && r > P.tableR[k + 1]) k++;
+  return k;
+}
+inline double tableSlope(const Parameters &P, double r) {
+  const int k = tableSegment(P, r);
+  return (P.tableP[k + 1] - P.tableP[k]) / (P.tableR[k + 1] - P.tableR[k]);
+}
+inline double tableValue(const Parameters &P, double r) {
+  const int k = tableSegment(P, r);
+  return P.tableP[k] + tableSlope(P, r) * (r - P.tableR[k]);
+}
+
 // p(r), the normal damped response (2.17); the paper's is p(r) = c_nu r_+ (section 5).
 // It must vanish for r <= 0 and be nondecreasing.
-inline double dampedResponse(const Parameters &P, double r) { return P.cnu * std::max(r, 0.); }
+inline double dampedResponse(const Parameters &P, double r) {
+  if (r <= 0) return 0.;
+  if (P.damping == Power) return P.cnu * std::pow(r, P.alpha);
+  if (P.damping == Table) return tableValue(P, r);
+  return P.cnu * r;                                                      // Linear
+}
 
 // p'(r), its slope (Newton's linearization uses it); at a kink, the slope on the left.
 // Keep it consistent with dampedResponse: the kernel compares the two when a run starts.
-inline double dampedResponseSlope(const Parameters &P, double r) { return r > 0 ? P.cnu : 0.; }
+inline double dampedResponseSlope(const Parameters &P, double r) {
+  if (r <= 0) return 0.;
+  if (P.damping == Power) return P.alpha * P.cnu * std::pow(r, P.alpha - 1);
+  if (P.damping == Table) return tableSlope(P, r);
+  return P.cnu;                                                          // Linear
+}
 
 // The friction bound (2.18): mu p(v_nu). At the bound v_nu = g it is Tresca's F_b = mu p(g).
 inline double frictionBound(const Parameters &P, double vn) { return P.mu * dampedResponse(P, vn); }

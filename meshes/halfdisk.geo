@@ -1,0 +1,26 @@
+// halfdisk.geo: a half disk of diameter Lx, its flat side up: the arc (the contact boundary)
+// from (0, Lx/2) through (Lx/2, 0) to (Lx, Lx/2), the flat top y = Lx/2 (the traction). An
+// unstructured mesh of size Lx/nx (ny and Ly are not used). Generated on demand by
+// edp/lib/meshes.idp; by hand:
+//   gmsh -2 -format msh22 -setnumber Lx 2 -setnumber nx 40 halfdisk.geo -o halfdisk.msh
+// Physical tags are the FreeFEM labels of edp/lib/forms.idp.
+DefineConstant[
+  Lx = {2, Name "Parameters/Lx"},
+  Ly = {1, Name "Parameters/Ly"},
+  nx = {40, Name "Parameters/nx"},
+  ny = {20, Name "Parameters/ny"}
+];
+R = Lx/2;
+h = Lx/nx;
+Point(1) = {0, R, 0, h};
+Point(2) = {R, R, 0, h};        // the centre
+Point(3) = {Lx, R, 0, h};
+Point(4) = {R, 0, 0, h};        // the lowest point
+Circle(1) = {1, 2, 4};
+Circle(2) = {4, 2, 3};
+Line(3) = {3, 1};
+Curve Loop(1) = {1, 2, 3};
+Plane Surface(1) = {1};
+Physical Curve("contact", 1) = {1, 2};
+Physical Curve("traction", 3) = {3};
+Physical Surface("body", 1) = {1};

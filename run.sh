@@ -92,9 +92,10 @@ solve() { "${FREEFEM[@]}" "$here/edp/solve.edp" "$@"; }
 # The main job runs each solve as a child and waits for it, so that a signal to run.sh reaches
 # the solve too (it then removes its unfinished folder) before run.sh stops.
 child=""
-forward_signal() { # forward_signal NAME NUMBER
-  [ -n "$child" ] && kill -s "$1" "$child" 2>/dev/null && wait "$child" 2>/dev/null
-  exit $((128 + $2))
+forward_signal() { # forward_signal NUMBER: stop the solve (TERM: a background job ignores INT)
+  if [ -n "$child" ]; then kill -s TERM "$child" 2>/dev/null || true; wait "$child" 2>/dev/null || true; fi
+  rm -f "${log:-}"
+  exit $((128 + $1))
 }
 
 # The eps values of the penalty study (Fig. 5): decades from 1e-1 to 1e-8.
@@ -104,19 +105,20 @@ run_logged() { # run_logged LABEL OPTIONS...: one progress line per run
   local label="$1"; shift
   local start end
   start=$(date +%s.%N)
-  solve "$@" > "$results/.log" 2>&1 &
+  "${FREEFEM[@]}" "$here/edp/solve.edp" "$@" > "$log" 2>&1 &     # $! is the solve itself
   child=$!
   if ! wait "$child"; then
-    cat "$results/.log" >&2; echo "run.sh: error: $label failed" >&2; exit 1
+    cat "$log" >&2; echo "run.sh: error: $label failed" >&2; rm -f "$log"; exit 1
   fi
   child=""
   end=$(date +%s.%N)
-  printf 'run.sh: %-44s %5.2f s  %s\n' "$label" "$(awk -v a="$start" -v b="$end" 'BEGIN { print b - a }')" "$(grep -o 'zones on Gamma3: .*;' "$results/.log" | sed 's/;$//')"
+  printf 'run.sh: %-44s %5.2f s  %s\n' "$label" "$(awk -v a="$start" -v b="$end" 'BEGIN { print b - a }')" "$(grep -o 'zones on Gamma3: .*;' "$log" | sed 's/;$//')"
 }
 
 main_job() {
   results="${RESULTS_DIR:-$here/results}"      # RESULTS_DIR: another folder (the tests use one)
   mkdir -p "$results"
+  log="$results/.log.$$"                         # this job's own, removed at its end
   local problem eps i
   for problem in original penalty; do
     run_logged "paper scene, $problem" -scene paper -problem "$problem" -out "$results/paper-$problem"
@@ -133,7 +135,7 @@ main_job() {
     run_logged "choices: $problem, k = 0.001" -scene paper -problem "$problem" -dt 0.001 -out "$results/choices/$problem-dt0.001"
     run_logged "choices: $problem, other diagonals" -scene paper -problem "$problem" -mesh "$right" -out "$results/choices/$problem-right-diagonal"
   done
-  rm -f "$results/.log"
+  rm -f "$log"
   "$PYTHON" "$here/plots/tables.py" --results "$results"
   "$PYTHON" "$here/plots/figures.py" --results "$results" --out "$results/figures"
   echo "run.sh: results in $results (zones: $results/zones.txt, eps study: $results/eps-study/eps_study.txt), figures in $results/figures"
@@ -143,7 +145,7 @@ command="${1:-main}"
 [ $# -gt 0 ] && shift
 case "$command" in
   main)
-    trap 'forward_signal TERM 15' TERM; trap 'forward_signal INT 2' INT; trap 'forward_signal HUP 1' HUP
+    trap 'forward_signal 15' TERM; trap 'forward_signal 2' INT; trap 'forward_signal 1' HUP
     ensure_dependencies; main_job ;;
   solve) ensure_dependencies solve; exec "${FREEFEM[@]}" "$here/edp/solve.edp" "$@" ;;   # a signal reaches the solve
   test) ensure_dependencies; exec bash "$here/tests/run_tests.sh" "$@" ;;

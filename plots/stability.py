@@ -34,7 +34,7 @@ METHOD_ORDER = ["orig-newton-on", "orig-newton-off", "orig-fixedpoint", "pen-new
 
 def rows_of(results, sweep):
     """The rows of results/SWEEP.txt, one dict column name -> text per run."""
-    return suite.read_table(os.path.join(results, f"{sweep}.txt"), dtype=str).rows()
+    return suite.read_table(os.path.join(results, f"{sweep}.txt"), dtype=str, empty=True).rows()
 
 
 def cell_text(row):

@@ -41,6 +41,8 @@ def run_tool(tool, main, code=1):
         message = str(error)
     except OSError as error:
         message = f"{error.filename}: {error.strerror}" if error.filename else str(error)
+    except (IndexError, KeyError, ValueError, ZeroDivisionError) as error:   # an input the tool did not expect
+        message = f"cannot use the input ({type(error).__name__}: {error})"
     print(f"{tool}: error: {message}", file=sys.stderr)
     sys.exit(code)
 
@@ -108,10 +110,10 @@ class Table:
         return [Values(self.path, zip(self.columns, row)) for row in self.data]
 
 
-def read_table(path, dtype=float):
+def read_table(path, dtype=float, empty=False):
     """A table written by edp/solve.edp or by the suite's tools: its '#' header lines
     (the last one names the columns), then rows of dtype (float, or str for tables with
-    words in them)."""
+    words in them); at least one row unless empty."""
     lines = read_lines(path)
     header = []
     for line in lines:
@@ -125,6 +127,8 @@ def read_table(path, dtype=float):
     rows = [(number, line) for number, line in enumerate(lines[len(header):], len(header) + 1)
             if line.split("#", 1)[0].strip()]
     if not rows:
+        if not empty:
+            raise InputError(f"{path}: no data rows (an interrupted or truncated file?)")
         return Table(path, params, columns, np.empty((0, len(columns)), dtype=dtype))
     try:
         data = np.loadtxt([line for _, line in rows], dtype=dtype, comments="#", ndmin=2)

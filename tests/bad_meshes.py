@@ -40,6 +40,35 @@ def variants(mesh_text):
         return out
 
     last_id = max(int(e.split()[0]) for e in elements)
+    # the edges of the triangles, and the interior ones (two triangles)
+    count = {}
+    for t in triangles:
+        a, b, c = t.split()[-3:]
+        for p, q in ((a, b), (b, c), (c, a)):
+            count[tuple(sorted((p, q)))] = count.get(tuple(sorted((p, q))), 0) + 1
+    interior = sorted(e for e, n in count.items() if n == 2)[len(count) // 4]
+    traction = str(labels["GammaTraction"])
+
+    def folded():
+        """Move a vertex of an interior edge across it: a triangle turns over onto its neighbour."""
+        a, b = interior
+        xy = {n.split()[0]: (float(n.split()[1]), float(n.split()[2])) for n in nodes}
+        third = next(t.split()[-3:] for t in triangles if a in t.split()[-3:] and b in t.split()[-3:])
+        c = next(k for k in third if k not in (a, b))
+        mx, my = (xy[a][0] + xy[b][0]) / 2, (xy[a][1] + xy[b][1]) / 2
+        moved = []
+        for n in nodes:
+            w = n.split()
+            if w[0] == c:
+                w[1], w[2] = repr(xy[c][0] + 1.3 * (mx - xy[c][0])), repr(xy[c][1] + 1.3 * (my - xy[c][1]))
+            moved.append(" ".join(w))
+        return moved
+
+    def renamed(old, new):
+        def swap(line, first):
+            w = line.split()
+            return " ".join([new if (k >= first and x == old) else x for k, x in enumerate(w)])
+        return [swap(n, 0) if n.split()[0] == old else n for n in nodes], [swap(e, 3 + int(e.split()[2])) for e in elements]
     w = contact_line.split()
     undefined = " ".join(w[:-1] + ["999999"])
     quad = f"{last_id + 1} 3 2 1 1 " + " ".join(triangles[0].split()[-3:] + [triangles[1].split()[-1]])
@@ -53,6 +82,12 @@ def variants(mesh_text):
         "micrometres": write(scaled(1e-6), elements),
         "unused-node": write(nodes + [f"{len(nodes) + 1000} 0.5 0.5 0"], elements),
         "truncated": mesh_text[:len(mesh_text) // 2],
+        "overlap": write(nodes, elements + [f"{last_id + 1} 2 2 1 1 " + " ".join(list(interior) + [triangles[0].split()[-1]])]),
+        "folded": write(folded(), elements),
+        "interior-traction": write(nodes, elements + [f"{last_id + 1} 1 2 {traction} {traction} " + " ".join(interior)]),
+        "interior-contact": write(nodes, elements + [f"{last_id + 1} 1 2 {contact} {contact} " + " ".join(interior)]),
+        "gap-in-contact": write(nodes, [e for e in elements if e != contact_line]),
+        "64-bit-id": write(*renamed(nodes[-1].split()[0], "4294967297")),
     }
 
 

@@ -67,6 +67,14 @@ class Checker:
             self.expect(name in self.h, f"history.txt lacks column {name}")
         for name in ("x", "y", "u_x", "u_y", "v_x", "v_y"):
             self.expect(name in self.f, f"fields.txt lacks column {name}")
+        # every table (suite.read_table requires rows) finite where the solver writes finite
+        # numbers (x_B, x_C may be nan), with the rows summary.txt announces
+        for name, table, rows in (("contact.txt", self.c, "contact_nodes"), ("fields.txt", self.f, "vertices"),
+                                  ("history.txt", self.h, "steps"), ("contact_history.txt", self.ch, "steps")):
+            self.expect(name == "contact_history.txt" or bool(np.isfinite(table.data).all()), f"{name} holds non-finite numbers")
+            expected = self.summary.get(rows)
+            self.expect(expected is None or str(len(table)) == expected,
+                        f"{name} has {len(table)} rows, summary.txt says {rows} {expected}")
         return not self.failures
 
     def real(self, key):
@@ -258,11 +266,19 @@ class Checker:
                 self.compare_tables(other_folder, name, families, exact, rtol)
 
 
+def zone_counts(text):
+    """FREE,DAMPED_SLIP,DAMPED_STICK,BOUND_SLIP,BOUND_STICK: five whole numbers."""
+    words = text.split(",")
+    if len(words) != 5 or not all(w.strip().isdigit() for w in words):
+        raise argparse.ArgumentTypeError(f"'{text}' is not five whole numbers separated by commas")
+    return text
+
+
 def main():
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("folder")
     parser.add_argument("--rtol", type=float, default=1e-9, help="tolerance of every check (relative)")
-    parser.add_argument("--zones", help="expected FREE,DAMPED_SLIP,DAMPED_STICK,BOUND_SLIP,BOUND_STICK counts")
+    parser.add_argument("--zones", type=zone_counts, help="expected FREE,DAMPED_SLIP,DAMPED_STICK,BOUND_SLIP,BOUND_STICK counts")
     parser.add_argument("--column", action="store_true", help="check the column scene's known answer")
     parser.add_argument("--compare", help="another output folder that must agree to --rtol")
     parser.add_argument("--other-law", action="store_true",

@@ -15,7 +15,6 @@ export PYTHONPATH="$root/plots${PYTHONPATH:+:$PYTHONPATH}"   # plots/suite.py, a
 FREEFEM=(FreeFem++-nw -ns -v 0)
 work=tests/work              # relative, so that outputs do not depend on the checkout's path
 mkdir -p "$work"
-[ "${1:-}" = "--bless" ] || find "$work" -mindepth 1 -delete   # the harness's own folder: start clean
 passed=0 failed=0 count=0
 
 solve() { "${FREEFEM[@]}" edp/solve.edp "$@"; }
@@ -103,6 +102,7 @@ if [ "${1:-}" = "--bless" ]; then
   bless "$2"
 fi
 [ $# -eq 0 ] || { echo "usage: run_tests.sh [--bless CASE]" >&2; exit 2; }
+find "$work" -mindepth 1 -delete      # the harness's own folder: start clean
 
 echo "# FreeFem++: $(command -v FreeFem++-nw), gmsh $(gmsh --version 2>&1 | head -1), numdiff $(numdiff --version 2>/dev/null | head -1 | awk '{print $2}')"
 
@@ -553,6 +553,12 @@ order-2|is of order 2 or more \(gmsh type 9\)
 micrometres|below the 1e-8 that FreeFEM's mesh reader accepts
 unused-node|is not a vertex of any triangle
 truncated|a truncated file
+overlap|lie on the same side of their common edge
+folded|lie on the same side of their common edge
+interior-traction|lies inside the body, between two triangles
+interior-contact|lies inside the body, between two triangles
+gap-in-contact|has no line element: give every boundary curve a Physical Curve
+64-bit-id|does not fit FreeFEM's 32-bit ids
 MESHES
 solve -mesh "$work/good.msh" -dt 0.1 -out "$work/good-mesh" >> "$diag" 2>&1 || status=1
 solve -mesh "$work/bad-meshes/clockwise.msh" -dt 0.1 -out "$work/clockwise-mesh" >> "$diag" 2>&1 || status=1
@@ -567,7 +573,7 @@ if [ -n "$cached" ]; then
   head -c 200 "$cached" > "$cached.cut" && mv "$cached.cut" "$cached"   # a truncated cache is made again
   solve "${coarse[@]}" -out "$work/cache" >> "$diag" 2>&1 && [ "$(wc -c < "$cached")" -gt 1000 ] || { echo "a truncated cached mesh" >> "$diag"; status=1; }
 fi
-report $status "meshes: undefined nodes, repeated edges, quadrangles, order 2, tiny, unused nodes, truncated files, missing dirichlet labels refused (exit 3); clockwise triangles reoriented; a bad cache remade" "$diag"
+report $status "meshes: undefined or unused nodes, repeated edges, overlapping or folded triangles, labels inside the body, gaps, 64-bit ids, quadrangles, order 2, tiny, truncated files, missing dirichlet labels refused (exit 3); clockwise triangles reoriented; a bad cache remade" "$diag"
 
 diag="$work/signal.diag"; : > "$diag"; status=0
 rm -rf "$work/signal" "$work"/signal.partial*

@@ -250,6 +250,7 @@ struct Slots {
 inline int checkLaw(const Parameters &P, double g, std::string &why) {
   auto text = [](double x) { char b[32]; std::snprintf(b, sizeof b, "%g", x); return std::string(b); };
   const double h = 1e-7 * g;
+  if (!(h > 0 && std::isfinite(8 * g))) { why = "g = " + text(g) + " is too small or too large to sample the law"; return 1; }
   // |slope - difference quotient of f at r| small on one side or across r
   auto matches = [h](double (*f)(const Parameters &, double), const Parameters &P, double r, double slope, double scale) {
     const double left = (f(P, r) - f(P, r - h)) / h, right = (f(P, r + h) - f(P, r)) / h;

@@ -21,10 +21,12 @@
 //   runFileReadable(string path)         1 if path is a regular file this process can read
 //   runChecksum(string path)             the POSIX cksum of a file (-1: unreadable)
 //   runByteOrderMark(string path)        3 if the file starts with a UTF-8 byte order mark, else 0
+//   runOnlyCarriageReturns(string path)  1 if a text file has CR line ends only
 //   runFolderOpen(string out)            lock OUT, check it may be replaced, make OUT.partial.<pid>
 //   runFileComplete(string path, int lines)   the file has exactly that many complete lines,
 //       and is on the disk (fsync); exit 7 otherwise (a full disk, an I/O error)
 //   runCopyFile(string from, string to)  0, or 1 if it cannot be copied completely
+//   runCreateFile(string path)           an empty file (exit 7 if it cannot be made)
 //   runRemoveFile(string path)           remove a file this run wrote (a temporary copy)
 //   runRename(string from, string to)    0, or 1
 //   runMakeFolders(string path)          mkdir -p; 0, or 1
@@ -82,7 +84,9 @@ struct RunFolder {
 RunFolder RF;
 char partialPathC[4096], outPathC[4096];
 char madeParentC[16][4096];                          // parent folders of OUT made by this run (outermost first)
-volatile sig_atomic_t cleanPartial = 0, cleanOut = 0, madeParents = 0;
+char temporaryC[4096];                               // a file this run writes outside OUT (gmsh's mesh)
+volatile sig_atomic_t cleanPartial = 0, cleanOut = 0, madeParents = 0, haveTemporary = 0;
+volatile pid_t gmshChild = 0;                        // a running gmsh
 
 void syncBuffers() {
   cleanPartial = 0; cleanOut = 0;
@@ -122,6 +126,8 @@ void removeTree(const char *path) { removeTreeAt(AT_FDCWD, path, 0); }
 
 // what the run created, and only that
 void cleanUp() {
+  if (gmshChild > 0) { kill(gmshChild, SIGKILL); gmshChild = 0; }   // our child; its file is removed below
+  if (haveTemporary) { unlink(temporaryC); haveTemporary = 0; }
   if (cleanPartial) removeTree(partialPathC);
   if (cleanOut) rmdir(outPathC);                    // only if still empty
   for (int k = madeParents - 1; k >= 0; k--) rmdir(madeParentC[k]);   // only those still empty
@@ -185,6 +191,15 @@ long long posixChecksum(const std::string &path) {
   return (long long)(~crc);
 }
 long runChecksum(string *const &path) { return (long)posixChecksum(*path); }
+// 1 if the text file has carriage returns but no line feed (old Mac line ends): FreeFEM's
+// getline would read it as one line
+long runOnlyCarriageReturns(string *const &path) {
+  std::ifstream f(*path, std::ios::binary);
+  bool cr = false;
+  char ch;
+  while (f.get(ch)) { if (ch == '\n') return 0; cr = cr || ch == '\r'; }
+  return cr ? 1 : 0;
+}
 long runByteOrderMark(string *const &path) {
   std::ifstream f(*path, std::ios::binary);
   char head[3] = {0, 0, 0};
@@ -299,7 +314,11 @@ long runFolderOpen(string *const &outText) {
   const std::string base = slash == std::string::npos ? out : out.substr(slash + 1);
   if (out == "/" || base == "." || base == ".." || base.empty() || out[0] == '-')
     fail(2, "option -out = '" + *outText + "' is not a usable folder name (give a new or results folder, e.g. results/run)");
+  for (unsigned char ch : out)
+    if (ch < 32 || ch == 127) fail(2, "option -out holds a control character (a line end?): give a plain folder name");
   struct stat status;
+  if (lstat(out.c_str(), &status) == 0 && S_ISLNK(status.st_mode))
+    fail(7, "option -out = '" + out + "' is a symbolic link: give the folder itself (the suite replaces OUT whole)");
   if (lstat(out.c_str(), &status) == 0 && !S_ISDIR(status.st_mode)) fail(7, "option -out = '" + out + "' exists and is not a folder");
   RF = RunFolder();
   RF.out = out;
@@ -307,7 +326,16 @@ long runFolderOpen(string *const &outText) {
   const std::string parent = slash == std::string::npos ? "." : (slash == 0 ? "/" : out.substr(0, slash));
   madeParents = 0;
   if (!makeFolders(parent, true))
+    fail(7, "cannot create the output folder " + RF.partial + " (option -out = " + out + "): " + errorText()
+            + (errno == EEXIST || errno == ENOTDIR ? " (a part of that path is a file)" : ""));
+  struct stat parentStatus;
+  if (stat(out.c_str(), &status) == 0 && stat(parent.c_str(), &parentStatus) == 0 && status.st_dev != parentStatus.st_dev)
+    fail(7, "option -out = '" + out + "' is a mount point: the suite replaces OUT whole; give a folder inside it");
+  // this run's folder first: a run that holds the lock on OUT can always be named by it
+  if (mkdir(RF.partial.c_str(), 0777) != 0)
     fail(7, "cannot create the output folder " + RF.partial + " (option -out = " + out + "): " + errorText());
+  RF.partialMade = true;
+  syncBuffers();
   for (int attempt = 0; attempt < 2; attempt++) {
     if (stat(out.c_str(), &status) == 0) {
       const std::string why = whyNotReplaceable(out);
@@ -317,14 +345,22 @@ long runFolderOpen(string *const &outText) {
     if (mkdir(out.c_str(), 0777) == 0) { RF.createdOut = true; break; }
     if (errno != EEXIST) fail(7, "cannot create the output folder " + out + ": " + errorText());
   }
-  RF.lock = open(out.c_str(), O_RDONLY | O_DIRECTORY);
-  if (RF.lock < 0) fail(7, "cannot open the output folder " + out + ": " + errorText());
-  if (flock(RF.lock, LOCK_EX | LOCK_NB) != 0) {
-    const int lockError = errno;
+  // the lock, on the folder that is OUT once we hold it (another run may swap OUT meanwhile)
+  for (int attempt = 0;; attempt++) {
+    RF.lock = open(out.c_str(), O_RDONLY | O_DIRECTORY);
+    if (RF.lock < 0) fail(7, "cannot open the output folder " + out + ": " + errorText());
+    if (flock(RF.lock, LOCK_EX | LOCK_NB) != 0) {
+      const int lockError = errno;
+      close(RF.lock); RF.lock = -1;
+      if (lockError == EWOULDBLOCK)
+        fail(7, "option -out = '" + out + "': another run" + otherRuns(out) + " is writing it; wait for it, or choose another -out");
+      fail(7, "cannot lock the output folder " + out + ": " + std::strerror(lockError));
+    }
+    struct stat locked, now;
+    if (fstat(RF.lock, &locked) == 0 && stat(out.c_str(), &now) == 0 && locked.st_ino == now.st_ino && locked.st_dev == now.st_dev)
+      break;
     close(RF.lock); RF.lock = -1;
-    if (lockError == EWOULDBLOCK)
-      fail(7, "option -out = '" + out + "': another run" + otherRuns(out) + " is writing it; wait for it, or choose another -out");
-    fail(7, "cannot lock the output folder " + out + ": " + std::strerror(lockError));
+    if (attempt == 10) fail(7, "option -out = '" + out + "': other runs keep replacing it; wait for them, or choose another -out");
   }
   syncBuffers();
   // under the lock: nobody else writes OUT now, but someone may have before we held it
@@ -332,11 +368,8 @@ long runFolderOpen(string *const &outText) {
     const std::string why = whyNotReplaceable(out);
     if (!why.empty()) fail(7, "option -out = '" + out + "' " + why + ": it is not replaced; choose another -out");
   }
-  if (mkdir(RF.partial.c_str(), 0777) != 0)
-    fail(7, "cannot create the output folder " + RF.partial + " (option -out = " + out + "): " + errorText());
+  if (!RF.createdOut && stat(out.c_str(), &status) == 0) chmod(RF.partial.c_str(), status.st_mode & 07777);   // OUT's mode
   noteLeftovers(out);
-  RF.partialMade = true;
-  syncBuffers();
   return 0;
 }
 
@@ -381,8 +414,20 @@ bool copyFile(const std::string &from, const std::string &to) {
   return ok;
 }
 long runCopyFile(string *const &from, string *const &to) { return copyFile(*from, *to) ? 0 : 1; }
-long runRemoveFile(string *const &path) { return unlink(path->c_str()) == 0 ? 0 : 1; }
-long runRename(string *const &from, string *const &to) { return rename(from->c_str(), to->c_str()) == 0 ? 0 : 1; }
+// an empty file, before FreeFEM's ofstream writes it (FreeFEM stops with its own error when it
+// cannot open a file: no inode left, a path too long, ...)
+long runCreateFile(string *const &path) {
+  const int fd = open(path->c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0666);
+  if (fd < 0 || close(fd) != 0) fail(7, "cannot create " + *path + ": " + errorText());
+  return 0;
+}
+void forgetTemporary(const std::string &path) { if (haveTemporary && path == temporaryC) haveTemporary = 0; }
+long runRemoveFile(string *const &path) { forgetTemporary(*path); return unlink(path->c_str()) == 0 ? 0 : 1; }
+long runRename(string *const &from, string *const &to) {
+  const bool ok = rename(from->c_str(), to->c_str()) == 0;
+  if (ok) forgetTemporary(*from);
+  return ok ? 0 : 1;
+}
 
 void syncFolder(const std::string &path) {
   int fd = open(path.c_str(), O_RDONLY | O_DIRECTORY);
@@ -391,6 +436,11 @@ void syncFolder(const std::string &path) {
 
 long runFolderFinish() {
   if (!RF.partialMade || RF.lock < 0) fail(7, "runFolderFinish without runFolderOpen");
+  // OUT again: files someone put there during the run are not ours to remove
+  const std::string why = whyNotReplaceable(RF.out);
+  if (!why.empty())
+    fail(7, "option -out = '" + RF.out + "' " + why + " since this run started: it is not replaced, and this run's "
+            + "results are not kept; run it again with another -out");
   std::vector<std::pair<std::string, bool>> entries;
   if (!listFolder(RF.partial, entries)) fail(7, "cannot read " + RF.partial + ": " + errorText());
   std::string marker = std::string(completeSignature) + "\n";
@@ -425,6 +475,9 @@ long runFolderFinish() {
   const size_t slash = RF.out.rfind('/');
   syncFolder(slash == std::string::npos ? "." : (slash == 0 ? "/" : RF.out.substr(0, slash)));
   removeTree(replaced.c_str());                      // the earlier complete run, or the empty folder made here
+  if (access(replaced.c_str(), F_OK) == 0)
+    toStderr("note: the earlier results could not all be removed from " + replaced + " (" + errorText() + "); the new ones are in "
+             + RF.out + "\n");
   close(RF.lock); RF.lock = -1;
   return 0;
 }
@@ -444,11 +497,15 @@ long runGmsh(string *const &geo, string *const &out, string *const &numbers) {
   posix_spawn_file_actions_addopen(&actions, 1, "/dev/null", O_WRONLY, 0);
   posix_spawn_file_actions_addopen(&actions, 2, "/dev/null", O_WRONLY, 0);
   pid_t child;
+  std::snprintf(temporaryC, sizeof temporaryC, "%s", out->c_str());   // removed if the run fails
+  haveTemporary = 1;
   const int spawned = posix_spawnp(&child, "gmsh", &actions, nullptr, argv.data(), environ);
   posix_spawn_file_actions_destroy(&actions);
   if (spawned != 0) return 127;
+  gmshChild = child;                                 // stopped if the run is
   int status = 0;
   while (waitpid(child, &status, 0) < 0 && errno == EINTR) {}
+  gmshChild = 0;
   return WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
 }
 
@@ -468,11 +525,17 @@ void checkMesh(const std::string &path, const std::string &outPath, const std::s
   if (!f) throw MeshProblem{"cannot read the file"};
   std::vector<std::string> lines;
   std::string line;
-  while (std::getline(f, line)) {
-    if (!line.empty() && line.back() == '\r') line.pop_back();
-    lines.push_back(line);
-  }
-  if (!lines.empty() && lines[0].compare(0, 3, "\xEF\xBB\xBF") == 0) lines[0] = lines[0].substr(3);   // a UTF-8 BOM
+  // line ends and trailing blanks do not count; a UTF-8 byte order mark is skipped
+  auto trimmed = [](std::string text) {
+    while (!text.empty() && (text.back() == '\r' || text.back() == ' ' || text.back() == '\t')) text.pop_back();
+    return text;
+  };
+  // the first line must open the $MeshFormat section: anything else is refused unread
+  if (!std::getline(f, line)) throw MeshProblem{"an empty file"};
+  if (line.compare(0, 3, "\xEF\xBB\xBF") == 0) line = line.substr(3);
+  if (trimmed(line) != "$MeshFormat") throw MeshProblem{"not a gmsh mesh file (it does not start with $MeshFormat)"};
+  lines.push_back("$MeshFormat");
+  while (std::getline(f, line)) lines.push_back(trimmed(line));
   auto fieldsOf = [](const std::string &text) {
     std::vector<std::string> words;
     std::stringstream in(text);
@@ -515,6 +578,7 @@ void checkMesh(const std::string &path, const std::string &outPath, const std::s
     double x, y, z;
     std::string rest;
     if (!(in >> id >> x >> y >> z) || (in >> rest)) throw MeshProblem{"$Nodes: cannot read the node line '" + text + "'"};
+    if (id > 2147483647L || id < -2147483647L) throw MeshProblem{"node id " + std::to_string(id) + " does not fit FreeFEM's 32-bit ids"};
     if (!std::isfinite(x) || !std::isfinite(y) || !std::isfinite(z)) throw MeshProblem{"node " + std::to_string(id) + " has a non-finite coordinate"};
     if (index.count(id)) throw MeshProblem{"node " + std::to_string(id) + " is defined twice"};
     if (i == 0) z0 = z;
@@ -538,6 +602,9 @@ void checkMesh(const std::string &path, const std::string &outPath, const std::s
     if (!ok) throw MeshProblem{"$Elements: cannot read the element line '" + text + "'"};
     e.id = v[0]; e.type = (int)v[1];
     const long ntags = v[2];
+    for (long number : v)
+      if (number > 2147483647L || number < -2147483647L)
+        throw MeshProblem{"element " + std::to_string(e.id) + ": the number " + std::to_string(number) + " does not fit FreeFEM's 32-bit ids and tags"};
     const std::map<int, int> nodesOfType = {{1, 2}, {2, 3}, {15, 1}};
     if (e.type == 8 || e.type == 9 || e.type == 16 || e.type == 21 || e.type == 23 || e.type == 25)
       throw MeshProblem{"element " + std::to_string(e.id) + " is of order 2 or more (gmsh type " + std::to_string(e.type) +
@@ -577,26 +644,42 @@ void checkMesh(const std::string &path, const std::string &outPath, const std::s
     }
   }
   if (triangles.empty()) throw MeshProblem{"no triangle (does the .geo define a Physical Surface?)"};
-  // triangles: positive area, relative to the mesh's size; FreeFEM's reader needs >= 1e-8
-  const double scale = std::max(xmax - xmin, ymax - ymin);
+  // triangles: positive area, relative to their own size; FreeFEM's reader needs >= 1e-8
   std::vector<char> used(nodeCount, 0);
-  std::set<std::vector<long>> triangleEdges;
+  std::map<std::pair<long, long>, std::vector<long>> directed;   // directed edge -> the triangles that run along it
   long reoriented = 0;
   for (Element &t : triangles) {
     const auto &a = xy[t.nodes[0]], &b = xy[t.nodes[1]], &c = xy[t.nodes[2]];
     const double area = 0.5 * ((b[0] - a[0]) * (c[1] - a[1]) - (c[0] - a[0]) * (b[1] - a[1]));
-    if (!(std::fabs(area) > 1e-12 * scale * scale))
+    double longest = 0;
+    for (int k = 0; k < 3; k++) {
+      const auto &p = xy[t.nodes[k]], &q = xy[t.nodes[(k + 1) % 3]];
+      longest = std::max(longest, std::hypot(q[0] - p[0], q[1] - p[1]));
+    }
+    if (!(std::fabs(area) > 1e-12 * longest * longest))
       throw MeshProblem{"triangle " + std::to_string(t.id) + " has zero area"};
     if (std::fabs(area) < 1e-8)
       throw MeshProblem{"triangle " + std::to_string(t.id) + " has the area " + numberText(std::fabs(area)) +
                         ", below the 1e-8 that FreeFEM's mesh reader accepts: give the lengths in a smaller unit (millimetres instead of metres, say, with the material data in matching units)"};
     if (area < 0) { std::swap(t.nodes[1], t.nodes[2]); reoriented++; }
     for (long k : t.nodes) used[k] = 1;
-    for (int k = 0; k < 3; k++) {
-      std::vector<long> edge = {t.nodes[k], t.nodes[(k + 1) % 3]};
-      std::sort(edge.begin(), edge.end());
-      triangleEdges.insert(edge);
-    }
+    for (int k = 0; k < 3; k++) directed[{t.nodes[k], t.nodes[(k + 1) % 3]}].push_back(t.id);
+  }
+  std::vector<long> idOf(nodeCount);
+  for (auto &p : index) idOf[p.second] = p.first;
+  auto edgeText = [&](long a, long b) { return "(nodes " + std::to_string(idOf[a]) + " " + std::to_string(idOf[b]) + ")"; };
+  // counterclockwise triangles run along an interior edge once each way: twice the same way is
+  // a fold (triangles on the same side of it), more is an overlap
+  std::set<std::vector<long>> boundaryEdges, interiorEdges;
+  for (auto &e : directed) {
+    const long a = e.first.first, b = e.first.second;
+    const auto back = directed.find({b, a});
+    const size_t forward = e.second.size(), backward = back == directed.end() ? 0 : back->second.size();
+    if (forward > 1)
+      throw MeshProblem{"triangles " + std::to_string(e.second[0]) + " and " + std::to_string(e.second[1]) + " lie on the same side "
+                        "of their common edge " + edgeText(a, b) + ": the mesh is folded, tangled or overlapping"};
+    std::vector<long> key = {std::min(a, b), std::max(a, b)};
+    (backward ? interiorEdges : boundaryEdges).insert(key);
   }
   for (long i = 0; i < nodeCount; i++)
     if (!used[i]) {
@@ -604,15 +687,40 @@ void checkMesh(const std::string &path, const std::string &outPath, const std::s
       for (auto &p : index) if (p.second == i) id = p.first;
       throw MeshProblem{"node " + std::to_string(id) + " is not a vertex of any triangle"};
     }
+  // two nodes at one point: a crack, or duplicated nodes
+  std::vector<std::pair<std::array<double, 2>, long>> points;
+  for (long i = 0; i < nodeCount; i++) points.push_back({xy[i], i});
+  std::sort(points.begin(), points.end());
+  for (size_t k = 1; k < points.size(); k++)
+    if (points[k].first == points[k - 1].first)
+      throw MeshProblem{"nodes " + std::to_string(idOf[points[k - 1].second]) + " and " + std::to_string(idOf[points[k].second]) +
+                        " are at the same point (" + numberText(points[k].first[0]) + ", " + numberText(points[k].first[1]) +
+                        "): a crack or duplicated nodes"};
+  // the labels the suite uses ("LABEL ROLE ..." required, then the scene's Dirichlet labels)
+  std::set<long> used_labels;
+  {
+    std::stringstream roles(required + " " + dirichlet);
+    std::string word;
+    while (roles >> word) if (std::isdigit((unsigned char)word[0])) used_labels.insert(std::atol(word.c_str()));
+  }
   std::set<long> labels;
+  std::set<std::vector<long>> labelled;
   for (Element &e : edges) {
     std::vector<long> edge = e.nodes;
     std::sort(edge.begin(), edge.end());
-    if (!triangleEdges.count(edge))
+    if (!boundaryEdges.count(edge) && !interiorEdges.count(edge))
       throw MeshProblem{"line element " + std::to_string(e.id) + " (physical tag " + std::to_string(e.tags[0]) +
                         ") is not an edge of any triangle"};
+    if (interiorEdges.count(edge) && used_labels.count(e.tags[0]))
+      throw MeshProblem{"line element " + std::to_string(e.id) + " (physical tag " + std::to_string(e.tags[0]) + ", a label the "
+                        "run uses) lies inside the body, between two triangles: contact, load and Dirichlet labels go on its boundary"};
     labels.insert(e.tags[0]);
+    labelled.insert(edge);
   }
+  for (auto &edge : boundaryEdges)
+    if (!labelled.count(edge))
+      throw MeshProblem{"the boundary edge " + edgeText(edge[0], edge[1]) + " has no line element: give every boundary curve a "
+                        "Physical Curve (a gap in the boundary, a crack or a hanging node leaves such an edge)"};
   // the labels the suite needs ("LABEL ROLE ..."), then the scene's Dirichlet labels
   std::stringstream in(required);
   std::string label, role, missing, roles;
@@ -629,8 +737,6 @@ void checkMesh(const std::string &path, const std::string &outPath, const std::s
   std::ofstream o(outPath, std::ios::binary | std::ios::trunc);
   o.precision(17);
   o << "$MeshFormat\n2.2 0 8\n$EndMeshFormat\n$Nodes\n" << nodeCount << "\n";
-  std::vector<long> idOf(nodeCount);
-  for (auto &p : index) idOf[p.second] = p.first;
   for (long i = 0; i < nodeCount; i++) o << idOf[i] << " " << xy[i][0] << " " << xy[i][1] << " " << z0 << "\n";
   o << "$EndNodes\n$Elements\n" << edges.size() + triangles.size() << "\n";
   for (auto *group : {&edges, &triangles})
@@ -667,17 +773,22 @@ long runCheckMesh(string *const &in, string *const &out, string *const &required
 }  // namespace
 
 static void Load_Init() {
-  // from the start: a signal at any moment removes what the run has created so far
-  for (int signal : {SIGINT, SIGTERM, SIGHUP}) std::signal(signal, onSignal);
+  // from the start: a signal at any moment removes what the run has created so far; a closed
+  // standard output (SIGPIPE) does not stop a run
+  for (int signal : {SIGINT, SIGTERM, SIGHUP, SIGQUIT, SIGUSR1, SIGUSR2, SIGALRM, SIGVTALRM, SIGPROF, SIGXCPU, SIGXFSZ})
+    std::signal(signal, onSignal);
+  std::signal(SIGPIPE, SIG_IGN);
   Global.Add("runError", "(", new OneOperator2_<long, long, string *>(runError));
   Global.Add("runWallClock", "(", new OneOperator0<double>(runWallClock));
   Global.Add("runProcessId", "(", new OneOperator0<long>(runProcessId));
   Global.Add("runFileReadable", "(", new OneOperator1_<long, string *>(runFileReadable));
   Global.Add("runChecksum", "(", new OneOperator1_<long, string *>(runChecksum));
   Global.Add("runByteOrderMark", "(", new OneOperator1_<long, string *>(runByteOrderMark));
+  Global.Add("runOnlyCarriageReturns", "(", new OneOperator1_<long, string *>(runOnlyCarriageReturns));
   Global.Add("runFolderOpen", "(", new OneOperator1_<long, string *>(runFolderOpen));
   Global.Add("runFileComplete", "(", new OneOperator2_<long, string *, long>(runFileComplete));
   Global.Add("runCopyFile", "(", new OneOperator2_<long, string *, string *>(runCopyFile));
+  Global.Add("runCreateFile", "(", new OneOperator1_<long, string *>(runCreateFile));
   Global.Add("runRemoveFile", "(", new OneOperator1_<long, string *>(runRemoveFile));
   Global.Add("runRename", "(", new OneOperator2_<long, string *, string *>(runRename));
   Global.Add("runMakeFolders", "(", new OneOperator1_<long, string *>(runMakeFolders));

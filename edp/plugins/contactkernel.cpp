@@ -73,6 +73,7 @@
 #include <string>
 #include <vector>
 #include <cmath>
+#include <cfloat>
 #include <algorithm>
 #include "contactlaw.hpp"
 
@@ -126,7 +127,7 @@ long parameter(string *const &name, const double &value) {
   else if (key == "penaltyform") L.P.literal = value != 0;
   else {
     law = false;
-    if (key == "tol") SP.tol = value;
+    if (key == "tol") { SP.tol = value; L.roundoff = 10 * DBL_EPSILON / value; }
     else if (key == "maxit") SP.maxit = (int)value;
     else if (key == "safeguard") SP.safeguards = value != 0;
     else if (key == "r") SP.r = value;
@@ -730,7 +731,6 @@ struct Newton {
   // the cycle guard: a fingerprint of the relations at each iteration of the step
   std::vector<double> seen;
   std::vector<double> rDefault;        // r_j at the start of a step
-  bool lastFull = true;                // the last accepted step was a full Newton step
   double merit = 0;                    // of the last accepted iterate
 };
 Newton Q;
@@ -836,13 +836,10 @@ bool newtonSolve(const double *b, double *x) {
 // Cycle guard: the relations of iteration it are fingerprinted (the pieces, and the
 // coefficients for a nonlinear p); when a fingerprint repeats within the step, r is halved on
 // every slot for the rest of the step (the solution does not depend on r, only which piece is
-// tried next). Only iterates that a full Newton step reached count: after a damped step (the
-// line search cut it) the same pieces are expected, not a cycle. The weights are fixed
-// pseudo-random numbers in [1, 1009].
+// tried next). The weights are fixed pseudo-random numbers in [1, 1009].
 int guard(int it) {
   if ((int)Q.seen.size() < it + 1) Q.seen.resize(it + 1, -1.);
-  if (it == 0) { std::fill(Q.seen.begin(), Q.seen.end(), -1.); Q.rDefault = L.r; Q.lastFull = true; }
-  if (!Q.lastFull) { Q.seen[it] = -1.; return 0; }
+  if (it == 0) { std::fill(Q.seen.begin(), Q.seen.end(), -1.); Q.rDefault = L.r; }
   double fingerprint = 0;
   for (int j = 0; j < L.n; j++)
     fingerprint += (L.key[j] + 0.6180339887 * L.a[j] + 0.4142135624 * L.d[j]) * (1. + ((7919 * j + 104729) % 1009));
@@ -865,7 +862,6 @@ int guard(int it) {
 bool accept(double merit, double step, int cut, double residual) {
   const bool ok = !SP.safeguards || L.merit() < (1 - 1e-4 * step) * merit || residual <= SP.tol || cut == 10;
   if (!ok) Q.cuts++;
-  else Q.lastFull = cut == 0;
   return ok;
 }
 void endStep() {
@@ -892,11 +888,7 @@ long newton(KN<double> *const &pcFree, KN<double> *const &pc, KN<double> *const 
   int it = 0;
   while (true) {
     L.relations(c.data());
-    if (guard(it)) {                 // r halved: the pieces, relations and merit of this iterate with it
-      residual = L.evaluate(c.data(), m.data());
-      merit = L.merit();
-      L.relations(c.data());
-    }
+    guard(it);
     if (!sameAsPrepared() && !newtonPrepare()) { residual = NAN; break; }
     for (int j = 0; j < nc; j++) rhs[j] = L.h[j] - L.a[j] * cFree[L.slot[j]];
     previous = m;

@@ -112,6 +112,7 @@ struct Slots {
   std::vector<char> normal;              // normal slot (else tangential)
   std::vector<int> partner;              // a tangential slot's normal slot, -1 if none
   std::vector<double> g, Kn, r, forceScale, residualWeight;
+  double roundoff = 0;                   // 10 u / tol (set with tol): see evaluate()
   // at the last evaluate(): piece, key, y, the resolvent's v (Damped, Bound) and target
   std::vector<int> piece, key;
   std::vector<double> stress, y, velocity, target, mismatch;
@@ -158,7 +159,10 @@ struct Slots {
     return v;
   }
 
-  // pieces, targets and the weighted natural residual (max norm; NaN if any is NaN) at (c, m)
+  // pieces, targets and the weighted natural residual (max norm; NaN if any is NaN) at (c, m).
+  // A slot's mismatch Lambda - target is weighted by residualWeight, unless its terms are so
+  // large (a body moving at many times g, a free flight) that their round-off would exceed
+  // tol: then relative to the terms, so that round-off reads tol/10 at most.
   double evaluate(const double *c, const double *m) {
     double worst = 0;
     for (int j = 0; j < n; j++) {
@@ -194,7 +198,10 @@ struct Slots {
       if (normal[j]) key[j] = 4 * p;
       piece[j] = p;
       target[j] = t;
-      mismatch[j] = (lambda - t) * residualWeight[j];
+      double weight = residualWeight[j];
+      const double terms = roundoff * (std::fabs(Kn[j] * c[j]) + std::fabs(m[j]) + r[j] * std::fabs(c[j]));
+      if (terms * weight > 1) weight = 1 / terms;
+      mismatch[j] = (lambda - t) * weight;
       worst = std::max(worst, std::fabs(mismatch[j]));
       if (std::isnan(mismatch[j])) worst = mismatch[j];
     }

@@ -135,6 +135,11 @@ main_job() {
     run_logged "choices: $problem, k = 0.001" -scene paper -problem "$problem" -dt 0.001 -out "$results/choices/$problem-dt0.001"
     run_logged "choices: $problem, other diagonals" -scene paper -problem "$problem" -mesh "$right" -out "$results/choices/$problem-right-diagonal"
   done
+  # The scenes of edp/scenes/ beyond the paper's (one figure each)
+  local scene
+  for scene in unloading cylinder bound-profile power-damping; do
+    run_logged "scene $scene" -scene "$scene" -out "$results/scenes/$scene"
+  done
   rm -f "$log"
   "$PYTHON" "$here/plots/tables.py" --results "$results"
   "$PYTHON" "$here/plots/figures.py" --results "$results" --out "$results/figures"

@@ -5,8 +5,9 @@ One function per figure, named after the paper's figure (or, for the figures the
 paper does not have, after what they show); each reads the text outputs by column
 name and writes PNG files. Usage:
   figures.py --results DIR --out DIR [NAME ...]     (NAME: see FIGURES; default all)
-DIR/paper-original, DIR/paper-penalty and DIR/eps-study are the outputs of ./run.sh;
-fig5 also reads DIR/eps-study/eps_study.txt, written by plots/tables.py.
+DIR/paper-original, DIR/paper-penalty, DIR/eps-study and DIR/scenes/NAME (the scenes
+unloading, cylinder, bound-profile, power-damping of edp/scenes/) are the outputs of
+./run.sh; fig5 also reads DIR/eps-study/eps_study.txt, written by plots/tables.py.
 """
 import argparse
 import os
@@ -251,9 +252,136 @@ def zone_boundaries(results, out):
     return suite.save(fig, out, "zone_boundaries")
 
 
+# ---------------------------------------------------------------- the scenes of edp/scenes/
+SCENES = ("unloading", "cylinder", "bound-profile", "power-damping")
+
+
+def scene_run(results, name):
+    """DIR/scenes/NAME (written by ./run.sh), its contact.txt, contact_history.txt and law."""
+    folder = os.path.join(results, "scenes", name)
+    require(os.path.join(folder, "summary.txt"), f"./run.sh (the run of edp/scenes/{name}.scene)")
+    c = suite.read_table(os.path.join(folder, "contact.txt"))
+    return folder, c, suite.read_table(os.path.join(folder, "contact_history.txt")), suite.RunScene(folder, c.params)
+
+
+def zone_counts_plot(ax, h):
+    """The nodes of each zone against t."""
+    for column, label, color in (("zone_free", "free", "0.5"), ("zone_damped_slip", "damped, slip", "tab:green"),
+                                 ("zone_damped_stick", "damped, stick", "tab:olive"),
+                                 ("zone_bound_slip", "at the bound, slip", "tab:orange"),
+                                 ("zone_bound_stick", "at the bound, stick", "tab:purple")):
+        ax.plot(h["t"], h[column], color=color, label=label)
+    ax.set_xlabel("t [s]")
+    ax.set_ylabel("nodes")
+    ax.set_title("nodes per zone on $\\Gamma_3$")
+    ax.legend(fontsize=7)
+
+
+def scene_unloading(results, out):
+    """The unloading scene: the contact force follows the load up and down (left), the zones
+    form while it rises and free up while it falls (right)."""
+    folder, c, h, law = scene_run(results, "unloading")
+    fig, (left, right) = plt.subplots(1, 2)
+    left.plot(h["t"], h["normal_force"], label=r"normal force $\sum_i w_i\, p_{\nu,i}$")
+    left.plot(h["t"], h["tangential_force"], label=r"tangential force $\sum_i w_i\, \lambda_{\tau,i}$")
+    twin = left.twinx()
+    twin.plot(h["t"], law.h(h["t"]), "k:", linewidth=0.8)
+    twin.set_ylabel("load factor h(t) (dotted)")
+    left.set_xlabel("t [s]")
+    left.set_ylabel("force per unit thickness [GPa m]")
+    left.set_title(f"loaded, then unloaded: f2 = {c.params['load']} h(t)")
+    left.legend(fontsize=7)
+    zone_counts_plot(right, h)
+    return suite.save(fig, out, "scene_unloading")
+
+
+def scene_cylinder(results, out):
+    """The cylinder scene: the deformed half cylinder near its lowest point (left, with the
+    zones of its contact nodes) and the velocities and stresses along the arc at T (right)."""
+    folder, c, h, law = scene_run(results, "cylinder")
+    f = suite.read_table(os.path.join(folder, "fields.txt"))
+    mesh = suite.read_msh22(os.path.join(folder, "mesh.msh"))
+    fig, (left, right) = plt.subplots(1, 2)
+    tri = mtri.Triangulation(f["x"] + f["u_x"], f["y"] + f["u_y"], mesh.triangles)
+    left.triplot(tri, color="0.6", linewidth=0.3)
+    zone = np.where(c["normal_status"] == 0, 0, 2 * c["normal_status"] - c["tangential_status"])
+    for value, label, color in ((1, "damped, slip", "tab:green"), (2, "damped, stick", "tab:olive"),
+                                (3, "at the bound, slip", "tab:orange"), (4, "at the bound, stick", "tab:purple")):
+        mask = zone == value
+        if mask.any():
+            left.plot(c["x"][mask], c["y"][mask], "o", color=color, label=f"{label}: {int(mask.sum())} nodes")
+    left.set_aspect("equal")
+    left.set_xlabel("x [m] (at T, displaced)")
+    left.set_ylabel("y [m]")
+    left.set_title("deformed mesh at T, contact nodes by zone (undeformed)")
+    left.legend(fontsize=7, loc="upper left")
+    g = law.g(c["x"])
+    right.plot(c["x"], c["v_nu"] / g, "o-", markersize=5, label=r"$v_\nu / g$")
+    right.plot(c["x"], c["p_nu"] / law.p(g), "s--", markersize=2, label=r"$p_\nu / p(g)$ (= $v_\nu / g$ where damped: p is linear)")
+    right.plot(c["x"], c["lambda_tau"] / law.p(g), "^-", label=r"$\lambda_\tau / p(g)$")
+    right.axhline(1.0, color="k", linewidth=0.8, linestyle="--", label="the bound")
+    right.set_xlabel("x [m] of the contact node")
+    right.set_title(f"along the arc at T = {c.params['T']} (each node its own normal)")
+    right.legend(fontsize=7)
+    return suite.save(fig, out, "scene_cylinder")
+
+
+def scene_bound_profile(results, out):
+    """The bound-profile scene: v_nu at T under g(x) rising along Gamma3 (left) and the
+    boundary x_B of the zone at the bound against t, with the paper's constant g (right)."""
+    folder, c, h, law = scene_run(results, "bound-profile")
+    paper = os.path.join(results, "paper-original")
+    fig, (left, right) = plt.subplots(1, 2)
+    left.plot(c["x"], c["v_nu"], "o-", label=r"$v_\nu$, bound-profile")
+    left.plot(c["x"], law.g(c["x"]), "k--", linewidth=0.8, label="g(x) (bound_profile)")
+    pc = suite.read_table(os.path.join(paper, "contact.txt"))
+    left.plot(pc["x"], pc["v_nu"], ".", color="0.5", label=fr"$v_\nu$, paper (g = {pc.params['g']})")
+    left.set_xlabel("x [m]")
+    left.set_ylabel("velocity [m/s]")
+    left.set_title(f"normal velocity on $\\Gamma_3$ at T = {c.params['T']}")
+    left.legend(fontsize=7)
+    ph = suite.read_table(os.path.join(paper, "contact_history.txt"))
+    right.plot(h["t"], h["x_B"], label="$x_B$, bound-profile")
+    right.plot(ph["t"], ph["x_B"], color="0.5", label="$x_B$, paper")
+    right.set_xlabel("t [s]")
+    right.set_ylabel("x [m]")
+    right.set_title("first node at the bound, $x_B$")
+    right.legend(fontsize=7)
+    return suite.save(fig, out, "scene_bound_profile")
+
+
+def scene_power_damping(results, out):
+    """The power-damping scene: p(r) = C r^2 with the paper's p(g), the damped response of
+    every contact node at T on it (left), and v_nu along Gamma3 against the paper's (right)."""
+    folder, c, h, law = scene_run(results, "power-damping")
+    paper = os.path.join(results, "paper-original")
+    pc = suite.read_table(os.path.join(paper, "contact.txt"))
+    linear = suite.RunScene(paper, pc.params)
+    g = float(c.params.real("g"))
+    r = np.linspace(0, g, 101)
+    fig, (left, right) = plt.subplots(1, 2)
+    left.plot(r, law.p(r), "-", label="p(r), power-damping")
+    left.plot(r, linear.p(r), "--", color="0.5", label="p(r), paper")
+    left.plot(c["v_nu"], c["p_nu"] - c["lambda_nu"], "o", label=r"$(v_\nu, p_\nu - \lambda_\nu)$ of the nodes at T")
+    left.set_xlabel("normal velocity r [m/s]")
+    left.set_ylabel("damped response [GPa]")
+    left.set_title("the damped response")
+    left.legend(fontsize=7)
+    right.plot(c["x"], c["v_nu"], "o-", label=r"$v_\nu$, power-damping")
+    right.plot(pc["x"], pc["v_nu"], ".", color="0.5", label=r"$v_\nu$, paper")
+    right.axhline(g, color="k", linewidth=0.8, linestyle="--", label=f"bound g = {g}")
+    right.set_xlabel("x [m]")
+    right.set_ylabel("velocity [m/s]")
+    right.set_title(f"normal velocity on $\\Gamma_3$ at T = {c.params['T']}")
+    right.legend(fontsize=7)
+    return suite.save(fig, out, "scene_power_damping")
+
+
 FIGURES = {"fig2": fig2_deformed, "fig3": fig3_contact_reactions, "fig4": fig4_velocities,
            "fig5": fig5_penalty_convergence, "contact_forces_history": contact_forces_history,
-           "energy_history": energy_history, "zone_boundaries": zone_boundaries}
+           "energy_history": energy_history, "zone_boundaries": zone_boundaries,
+           "scene_unloading": scene_unloading, "scene_cylinder": scene_cylinder,
+           "scene_bound_profile": scene_bound_profile, "scene_power_damping": scene_power_damping}
 
 
 def main():

@@ -2,7 +2,8 @@
 
 Readers of the solver's outputs and of the suite's own tables, the gmsh MSH 2.2 reader,
 the table writer, the boundary labels (edp/lib/forms.idp), the option table
-(edp/options.txt) and the scenes (edp/scenes/*.scene), the parser of the solver's
+(edp/options.txt) and the scenes (edp/scenes/*.scene), the law a run used (RunScene),
+the parser of the solver's
 failure message, and the figure style. Every tool imports it as `import suite`: run.sh
 puts plots/ on PYTHONPATH, and the scripts of plots/ find it next to them.
 
@@ -333,6 +334,68 @@ def effective_options(given, scene=None):
         if rule.name not in given and values.get(rule.option) == rule.value:
             values[rule.name] = rule.default
     return Values(f"the options of a run (scene {path})", ((name, values[name]) for name in options if name in values))
+
+
+# ---------------------------------------------------------------- the law a run used
+def piecewise(points, x):
+    """The piecewise linear function through points (x0, y0, x1, y1, ...), constant outside."""
+    return np.interp(x, points[0::2], points[1::2])
+
+
+class RunScene:
+    """What a run's own scene (OUT/scene.scene, the values it used; params: the run's options,
+    for -cnu and -g) says of its law, as docs/design.md states the scene keys: p(r) of its
+    damping family, the bound g(x) (bound_profile), the load factor h(t) (load_history) and
+    body_force. Written from the documentation, not from the solver (whose law is
+    edp/plugins/contactlaw.hpp): tests/check_results.py checks the outputs against it, and
+    the figures draw it. A folder without scene.scene: the paper's law with the run's -cnu."""
+
+    def __init__(self, folder, params):
+        path = os.path.join(folder, "scene.scene")
+        data = read_scene(path).data if os.path.isfile(path) else {}
+        def words(key):
+            if key not in data:
+                return None
+            try:
+                return [float(w) for w in data[key][0][1 if key == "damping" else 0:]]
+            except ValueError:
+                raise InputError(f"{path}: {key} needs numbers") from None
+
+        family = data["damping"][0][0] if "damping" in data else "linear"
+        numbers = words("damping") or [params.real("cnu")]
+        if family == "linear":
+            self.p = lambda r: numbers[0] * np.maximum(r, 0.0)
+        elif family == "power":
+            self.p = lambda r: numbers[0] * np.maximum(r, 0.0) ** numbers[1]
+        else:                           # table: through the points from (0, 0), then the last slope
+            rs, ps = np.array(numbers[0::2]), np.array(numbers[1::2])
+            last = (ps[-1] - ps[-2]) / (rs[-1] - rs[-2])
+            self.p = lambda r: np.where(r <= 0, 0.0, np.where(r <= rs[-1], np.interp(r, rs, ps),
+                                                               ps[-1] + last * (r - rs[-1])))
+        self.family = family
+        profile = words("bound_profile")
+        g = params.real("g")
+        self.g = (lambda x: piecewise(profile, x)) if profile else (lambda x: np.full(np.shape(x), g))
+        self.body_force = words("body_force") or [0.0, 0.0]
+        history = words("load_history")
+        self.h = (lambda t: piecewise(history, t)) if history else (lambda t: np.asarray(t, dtype=float))
+
+    def inverse(self, q):
+        """r >= 0 with p(r) = q (q >= 0; p nondecreasing, increasing where it is inverted)."""
+        lo, hi = 0.0, 1.0
+        while self.p(hi) < q:
+            if hi > 1e300:
+                return np.inf           # p stays below q (a table that ends flat)
+            hi *= 2
+        for _ in range(200):
+            mid = 0.5 * (lo + hi)
+            lo, hi = (mid, hi) if self.p(mid) < q else (lo, mid)
+        return 0.5 * (lo + hi)
+
+    def slope(self, r):
+        """p'(r) from the left (a difference quotient)."""
+        step = 1e-7 * max(r, 1e-300)
+        return (self.p(r) - self.p(r - step)) / step
 
 
 # ---------------------------------------------------------------- the solver's failure message

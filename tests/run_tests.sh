@@ -448,6 +448,108 @@ expect_failure "output not writable" 7 "cannot create the output folder" -out /p
 expect_failure "literal penalty at eps = 1e-10 without safeguards" 4 "the contact solver did not converge after .* iterations" -problem penalty -eps 1e-10 -penaltyform literal -safeguard off -nx 33 -ny 16
 expect_failure "no convergence (maxit 1)" 4 "step 1 \(t = .*\): the contact solver did not converge after 1 iterations .*residual" "${coarse[@]}" -maxit 1
 
+# ---- scenes (docs/design.md, "Scenes"): every new law on the three Newtons, a run that
+# repeats itself from its own folder, the mesh cache, oblique and curved boundaries, bad keys
+# compiled = script Newton = full-system Newton to 1e-9, for each scene key: the column cases
+# (small already) and the paper-sized scenes on a coarse mesh
+scene_agreement() { # scene_agreement NAME OPTIONS...: compiled (tests/work/NAME) against the others
+  local name="$1" diag="$work/agree-$1.diag" status=0 variant; shift
+  : > "$diag"
+  [ -f "$work/$name/summary.txt" ] || solve "$@" -out "$work/$name" >> "$diag" 2>&1 || status=1
+  for variant in "-kernel script" "-solver full"; do
+    # shellcheck disable=SC2086
+    solve "$@" $variant -out "$work/$name-${variant##* }" >> "$diag" 2>&1 || status=1
+    "$PYTHON" tests/check_results.py "$work/$name-${variant##* }" --compare "$work/$name" --rtol 1e-9 >> "$diag" 2>&1 || status=1
+  done
+  report $status "scene $name: compiled Newton = script Newton = full-system Newton to 1e-9" "$diag"
+}
+# shellcheck disable=SC2086
+for name in column-power column-table column-profile-bound column-history-pulled column-body; do scene_agreement "$name" ${case_options[$name]}; done
+scene_agreement unloading-coarse -scene unloading -nx 16 -ny 8 -dt 0.05
+scene_agreement power-damping-coarse -scene power-damping -nx 16 -ny 8 -dt 0.05
+scene_agreement bound-profile-coarse -scene bound-profile -nx 16 -ny 8 -dt 0.05
+scene_agreement cylinder-coarse -scene cylinder -nx 12 -dt 0.05
+
+# OUT/scene.scene holds the values the run used: with OUT/mesh.msh it repeats the run, command-
+# line overrides included (outputs identical but for the lines that name the run's own files
+# and the timings)
+diag="$work/repeat.diag"; : > "$diag"; status=0
+rm -rf "$work/repeat" "$work/repeat2"
+solve -scene bound-profile -nx 33 -ny 16 -dt 0.05 -load 20 -mu 0.3 -g 0.06 -out "$work/repeat" >> "$diag" 2>&1 || status=1
+solve -scene "$work/repeat/scene.scene" -mesh "$work/repeat/mesh.msh" -out "$work/repeat2" >> "$diag" 2>&1 || status=1
+own_files() { grep -v -E '^(# )?(scene|out|mesh|mesh_source|scene_file|nx|ny|time_[a-z_]*) ' "$1"; }
+for f in "${OUTPUT_FILES[@]}"; do
+  cmp -s <(own_files "$work/repeat/$f") <(own_files "$work/repeat2/$f") || { echo "$f differs" >> "$diag"; status=1; }
+done
+grep -q '^load 20$' "$work/repeat/scene.scene" && grep -q '^bound_profile ' "$work/repeat/scene.scene" \
+  || { echo "scene.scene lacks the override or the profile" >> "$diag"; status=1; }
+report $status "a run repeats itself from its OUT/scene.scene and OUT/mesh.msh, command-line overrides included" "$diag"
+
+# the mesh cache follows the .geo's contents: a copy of the suite with a finer quarterdisk.geo
+diag="$work/geo.diag"; : > "$diag"; status=0
+copy="$work/geocopy"; rm -rf "$copy" && mkdir -p "$copy/meshes" && cp -r edp run.sh freefem++.pref "$copy/" && cp meshes/*.geo "$copy/meshes/"
+(cd "$copy" && "${FREEFEM[@]}" edp/solve.edp -scene cylinder -nx 8 -dt 0.5 -T 0.5 -out before) >> "$diag" 2>&1 || status=1
+sed -i 's|^h = R/nx;|h = R/nx/2;|' "$copy/meshes/quarterdisk.geo"
+(cd "$copy" && "${FREEFEM[@]}" edp/solve.edp -scene cylinder -nx 8 -dt 0.5 -T 0.5 -out after) >> "$diag" 2>&1 || status=1
+a=$(awk '$1 == "vertices" { print $2 }' "$copy/before/summary.txt" 2>/dev/null); b=$(awk '$1 == "vertices" { print $2 }' "$copy/after/summary.txt" 2>/dev/null)
+[ -n "$a" ] && [ -n "$b" ] && [ "$b" -gt $((3 * a)) ] || { echo "vertices before $a, after halving h $b" >> "$diag"; status=1; }
+report $status "the mesh cache follows the .geo's contents: halving h in quarterdisk.geo gives a new mesh" "$diag"
+
+# an oblique contact boundary: the paper's block turned by 30 degrees (tests/data/tilted.geo,
+# clamped on its left side, the traction turned with it) gives the same contact values
+diag="$work/tilted.diag"; : > "$diag"; status=0
+for a in 0 30; do
+  gmsh -2 -format msh22 -v 0 -setnumber a "$a" tests/data/tilted.geo -o "$work/tilted$a.msh" > /dev/null 2>&1 || status=1
+  grep -v -E '^(dirichlet|traction|contact_normal|nx|ny) ' edp/scenes/paper.scene > "$work/tilted$a.scene"
+  awk -v a="$a" 'BEGIN { r = a * atan2(0, -1) / 180; printf "dirichlet 4 xy\ntraction %.17g %.17g\n", sin(r), -cos(r) }' >> "$work/tilted$a.scene"
+  solve -scene "$work/tilted$a.scene" -mesh "$work/tilted$a.msh" -dt 0.05 -out "$work/tilted$a" >> "$diag" 2>&1 || status=1
+done
+paste <(grep -v '^#' "$work/tilted0/contact.txt") <(grep -v '^#' "$work/tilted30/contact.txt") \
+  | awk 'NF != 22 { bad = 1 } { for (i = 2; i <= 6; i++) { d = $i - $(i + 11); if (d < 0) d = -d; if (d > m) m = d } }
+         END { if (bad || NR == 0 || m > 1e-9) { print "turned by 30 degrees: contact values differ by " m; exit 1 } }' >> "$diag" || status=1
+report $status "an oblique contact boundary: the block turned by 30 degrees has the same v_nu, v_tau, p_nu, lambda_nu, lambda_tau to 1e-9" "$diag"
+
+# boundaries where a normal means nothing are refused (exit 3, no output)
+gmsh -2 -format msh22 -v 0 tests/data/spike.geo -o "$work/spike.msh" > /dev/null 2>&1
+grep -v -E '^(dirichlet|contact_normal) ' edp/scenes/paper.scene > "$work/spike.scene"
+expect_failure "a contact boundary that turns by 150 degrees" 3 "turns by more than 120 degrees at \(1, 0\)" -scene "$work/spike.scene" -mesh "$work/spike.msh"
+gmsh -2 -format msh22 -v 0 -setnumber nx 10 tests/data/halfdisk.geo -o "$work/halfdisk.msh" > /dev/null 2>&1
+grep -v -E '^(dirichlet|contact_normal|geometry) ' edp/scenes/cylinder.scene > "$work/halfdisk.scene"; echo "dirichlet 3 x" >> "$work/halfdisk.scene"
+expect_failure "a contact node whose free component is not a normal velocity" 3 "has its x velocity fixed by a dirichlet line, and its normal .* is more than 60 degrees from the free y axis" -scene "$work/halfdisk.scene" -mesh "$work/halfdisk.msh"
+
+# every new key is checked when the scene is read: exit 3 naming the file, line and key
+diag="$work/keys.diag"; : > "$diag"; status=0
+while IFS='|' read -r line regex; do
+  grep -v -E "^(${line%% *}|cnu) " edp/scenes/column.scene > "$work/key.scene"; printf '%s\n' "$line" >> "$work/key.scene"
+  case "$line" in damping*) ;; *) echo "damping linear 50" >> "$work/key.scene" ;; esac
+  rm -rf "$work/key"; rc=0; solve -scene "$work/key.scene" -out "$work/key" > "$work/key.log" 2>&1 || rc=$?
+  { [ "$rc" = 3 ] && grep -Eq "key.scene:[0-9]+: .*$regex" "$work/key.log" && [ ! -e "$work/key" ]; } \
+    || { echo "'$line': exit $rc, expected 3 and /$regex/: $(cat "$work/key.log")" >> "$diag"; status=1; }
+done <<'KEYS'
+load_history 0 0 1|load_history: .*pairs
+load_history 0 0 1 1 0.5 2|load_history: point 3 \(0.5, 2\) does not come after the one before
+load_history -1 0 1 1|load_history: the times must be >= 0
+bound_profile 0 0.05 1 0|bound_profile: every g must be > 0
+bound_profile 1 0.05 0 0.06|bound_profile: point 2 \(0, 0.06\) does not come after
+damping table 0 0 0.1 2 0.2 1|damping table: p decreases at point 3 \(0.2, 1\)
+damping table 0.1 0 0.2 1|damping table: the first point must be \(0, 0\)
+damping table 0 0|damping table: at least two points
+damping power 1000 0.5|ALPHA must be >= 1
+damping cubic 3|damping linear C, damping power C ALPHA
+body_force 0|body_force
+initial_velocity 0 nan|initial_velocity
+contact_normal 0 0|contact_normal
+KEYS
+grep -v '^cnu ' edp/scenes/column.scene > "$work/key.scene"; printf 'damping linear 50\nload_history 0 0 1 1\nload_history 0 0 1 2\n' >> "$work/key.scene"
+rc=0; solve -scene "$work/key.scene" -out "$work/key" > "$work/key.log" 2>&1 || rc=$?
+[ "$rc" = 3 ] && grep -q "'load_history' is given a second time" "$work/key.log" || { echo "a repeated load_history: exit $rc" >> "$diag"; status=1; }
+printf 'cnu 50\n' >> "$work/key.scene"
+rc=0; solve -scene "$work/key.scene" -out "$work/key" > "$work/key.log" 2>&1 || rc=$?
+[ "$rc" = 3 ] || { echo "cnu and damping linear together: exit $rc" >> "$diag"; status=1; }
+rc=0; solve -scene tests/scenes/column-table.scene -cnu 30 -out "$work/key" > "$work/key.log" 2>&1 || rc=$?
+[ "$rc" = 2 ] && grep -q "option -cnu gives C of damping linear or power, but the damping of .* is a table" "$work/key.log" || { echo "-cnu with a table: exit $rc" >> "$diag"; status=1; }
+report $status "scene keys: bad load_history, bound_profile, damping, body_force, initial_velocity, contact_normal refused with file, line and key (exit 3); repeats, cnu with damping, -cnu with a table refused" "$diag"
+
 # ---- a failed run leaves earlier results untouched
 diag="$work/keep.diag"; : > "$diag"; status=0
 rm -rf "$work/keep"

@@ -32,11 +32,12 @@ def variants(mesh_text):
         w[-1], w[-2] = w[-2], w[-1]
         return " ".join(w)
 
-    def scaled(factor):
+    def scaled(factor, factor_y=None):
         out = []
         for n in nodes:
             w = n.split()
-            out.append(" ".join([w[0], repr(float(w[1]) * factor), repr(float(w[2]) * factor), w[3]]))
+            fy = factor if factor_y is None else factor_y
+            out.append(" ".join([w[0], repr(float(w[1]) * factor), repr(float(w[2]) * fy), w[3]]))
         return out
 
     last_id = max(int(e.split()[0]) for e in elements)
@@ -80,6 +81,9 @@ def variants(mesh_text):
         "quadrangle": write(nodes, elements + [quad]),
         "order-2": write(nodes, elements + [order2]),
         "micrometres": write(scaled(1e-6), elements),
+        # 2.5e7 times longer: the extent is 2e8 times the shortest edge, refused (above 1e8) but
+        # still one that FreeFEM's reader could load (from about 1e9 it exhausts the memory)
+        "long-and-thin": write(scaled(2.5e7, 1), elements),
         "unused-node": write(nodes + [f"{len(nodes) + 1000} 0.5 0.5 0"], elements),
         "truncated": mesh_text[:len(mesh_text) // 2],
         "overlap": write(nodes, elements + [f"{last_id + 1} 2 2 1 1 " + " ".join(list(interior) + [triangles[0].split()[-1]])]),

@@ -551,6 +551,7 @@ twice-listed-edge|repeats line element .* listed twice
 quadrangle|is a quadrangle \(gmsh type 3\)
 order-2|is of order 2 or more \(gmsh type 9\)
 micrometres|below the 1e-8 that FreeFEM's mesh reader accepts
+long-and-thin|extends over 5e\+07 \(its bounding box\) but its shortest edge is 0.25, more than 1e\+08 times shorter
 unused-node|is not a vertex of any triangle
 truncated|a truncated file
 overlap|lie on the same side of their common edge
@@ -573,7 +574,7 @@ if [ -n "$cached" ]; then
   head -c 200 "$cached" > "$cached.cut" && mv "$cached.cut" "$cached"   # a truncated cache is made again
   solve "${coarse[@]}" -out "$work/cache" >> "$diag" 2>&1 && [ "$(wc -c < "$cached")" -gt 1000 ] || { echo "a truncated cached mesh" >> "$diag"; status=1; }
 fi
-report $status "meshes: undefined or unused nodes, repeated edges, overlapping or folded triangles, labels inside the body, gaps, 64-bit ids, quadrangles, order 2, tiny, truncated files, missing dirichlet labels refused (exit 3); clockwise triangles reoriented; a bad cache remade" "$diag"
+report $status "meshes: undefined or unused nodes, repeated edges, overlapping or folded triangles, labels inside the body, gaps, 64-bit ids, quadrangles, order 2, tiny, long and thin, truncated files, missing dirichlet labels refused (exit 3); clockwise triangles reoriented; a bad cache remade" "$diag"
 
 diag="$work/signal.diag"; : > "$diag"; status=0
 rm -rf "$work/signal" "$work"/signal.partial*
@@ -598,6 +599,7 @@ Lx 0|Lx must be a number > 0, got '0'
 load 5|'load' is given a second time
 contact_normal 0 -1e400|contact_normal needs two finite numbers
 geometry ../rectangle|a name of meshes/NAME.geo
+Lx 1e10|Lx 1e10 and Ly 2 with 8 x 16 cells make a mesh that extends over 1e\+10 but whose shortest edge is 0.125, more than 1e\+08 times shorter
 SCENES
 rc=0; solve "${coarse[@]}" -E 1e300 -out "$work/message" > "$work/message.log" 2>&1 || rc=$?
 [ "$rc" = 2 ] && grep -q "give matrix entries up to .*use other units" "$work/message.log" || { echo "-E 1e300: exit $rc" >> "$diag"; status=1; }
@@ -606,7 +608,7 @@ rc=0; bash tests/run_tests.sh --bless '' > "$work/message.log" 2>&1 || rc=$?
 mkdir -p "$work/corrupt/paper-original" "$work/corrupt/paper-penalty"; printf 'garbage\n\001\377\n' > "$work/corrupt/paper-original/summary.txt"
 "$PYTHON" plots/tables.py --results "$work/corrupt" > "$work/message.log" 2>&1 && status=1
 [ "$(wc -l < "$work/message.log")" = 1 ] && ! grep -q Traceback "$work/message.log" || { echo "tables.py on a corrupt summary:" >> "$diag"; cat "$work/message.log" >> "$diag"; status=1; }
-report $status "messages: a byte order mark is read; Lx 0, repeated keys, non-finite numbers, odd names, -E 1e300 named; --bless '' and corrupt inputs give one line" "$diag"
+report $status "messages: a byte order mark is read; Lx 0, Lx 1e10 (before gmsh), repeated keys, non-finite numbers, odd names, -E 1e300 named; --bless '' and corrupt inputs give one line" "$diag"
 
 # ---- reproducibility: the same options give byte-identical outputs (timings aside)
 diag="$work/repro.diag"; : > "$diag"; status=0

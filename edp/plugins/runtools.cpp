@@ -37,6 +37,7 @@
 //       int fatal)   check a gmsh MSH 2.2 file before FreeFEM reads it (see checkMesh below)
 //       and write it to out, clockwise triangles reoriented; on a problem: exit 3 with
 //       "what: why" (fatal), or return 1; exit 7 if out cannot be written
+//   runMeshExtentRatio()                 1e8: the largest extent / shortest edge a mesh may have
 #include "ff++.hpp"
 #include "AFunction_ext.hpp"
 #include <algorithm>
@@ -519,6 +520,8 @@ struct Element { long id; int type; std::vector<long> tags, nodes; };
 
 std::string numberText(double x) { char b[32]; std::snprintf(b, sizeof b, "%g", x); return b; }
 
+const double maxExtentRatio = 1e8;                 // extent / shortest edge (see checkMesh)
+
 void checkMesh(const std::string &path, const std::string &outPath, const std::string &required,
                const std::string &dirichlet) {
   std::ifstream f(path, std::ios::binary);
@@ -644,6 +647,20 @@ void checkMesh(const std::string &path, const std::string &outPath, const std::s
     }
   }
   if (triangles.empty()) throw MeshProblem{"no triangle (does the .geo define a Physical Surface?)"};
+  // extent against the shortest edge: FreeFEM's reader exhausts the memory (tens of GB) on a
+  // mesh whose extent is about 2^30 times its shortest edge; refused well before (1e8)
+  double shortest = INFINITY;
+  for (const Element &t : triangles)
+    for (int k = 0; k < 3; k++) {
+      const auto &p = xy[t.nodes[k]], &q = xy[t.nodes[(k + 1) % 3]];
+      shortest = std::min(shortest, std::hypot(q[0] - p[0], q[1] - p[1]));
+    }
+  const double extent = std::max(xmax - xmin, ymax - ymin);
+  if (shortest > 0 && extent > maxExtentRatio * shortest)
+    throw MeshProblem{"the mesh extends over " + numberText(extent) + " (its bounding box) but its shortest edge is " +
+                      numberText(shortest) + ", more than " + numberText(maxExtentRatio) + " times shorter, which FreeFEM's "
+                      "mesh reader cannot handle (it exhausts the memory): give the lengths in other units, or cells closer "
+                      "in size (a coarser ratio)"};
   // triangles: positive area, relative to their own size; FreeFEM's reader needs >= 1e-8
   std::vector<char> used(nodeCount, 0);
   std::map<std::pair<long, long>, std::vector<long>> directed;   // directed edge -> the triangles that run along it
@@ -757,6 +774,8 @@ void checkMesh(const std::string &path, const std::string &outPath, const std::s
   (void)reoriented;
 }
 
+double runMeshExtentRatio() { return maxExtentRatio; }
+
 long runCheckMesh(string *const &in, string *const &out, string *const &required, string *const &dirichlet,
                   string *const &what, const long &fatal) {
   try {
@@ -794,6 +813,7 @@ static void Load_Init() {
   Global.Add("runMakeFolders", "(", new OneOperator1_<long, string *>(runMakeFolders));
   Global.Add("runFolderFinish", "(", new OneOperator0<long>(runFolderFinish));
   Global.Add("runGmsh", "(", new OneOperator3_<long, string *, string *, string *>(runGmsh));
+  Global.Add("runMeshExtentRatio", "(", new OneOperator0<double>(runMeshExtentRatio));
   Global.Add("runCheckMesh", "(", new OneOperator6_<long, string *, string *, string *, string *, string *, long>(runCheckMesh));
 }
 

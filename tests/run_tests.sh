@@ -453,22 +453,34 @@ cmp -s "$work/keep/contact.txt" "$work/keep.contact.before" || { echo "earlier r
 compgen -G "$work/keep.partial*" > /dev/null && { echo "partial folder left behind" >> "$diag"; status=1; }
 report $status "a failed run leaves the earlier results untouched" "$diag"
 
-# ---- a run killed by a signal leaves the earlier results untouched and nothing that looks valid
-for signal in TERM KILL; do
+# ---- a run killed by a signal leaves the earlier results untouched and nothing that looks valid;
+# a handled signal (TERM, or SEGV of a crash) leaves nothing at all, and the exit status 128 + n
+long_run() { # long_run OUT: a solve of about 5 s in the background (long enough to be killed), no core file
+  (ulimit -c 0; exec "${FREEFEM[@]}" edp/solve.edp -nx 66 -ny 33 -dt 0.0002 -out "$1") >> "$diag" 2>&1 &
+  pid=$!
+}
+for signal in TERM SEGV KILL; do
   diag="$work/kill.diag"; : > "$diag"; status=0
-  rm -rf "$work/kill" "$work"/kill.partial*
+  rm -rf "$work/kill" "$work"/kill.partial* "$work/kill-new"
   solve "${coarse[@]}" -out "$work/kill" > "$diag" 2>&1 || status=1
   cp -r "$work/kill" "$work/kill.before"
-  "${FREEFEM[@]}" edp/solve.edp -nx 66 -ny 33 -dt 0.0002 -out "$work/kill" >> "$diag" 2>&1 &   # about 5 s: long enough to be killed
-  pid=$!
+  long_run "$work/kill"
   sleep 0.4
   kill -s "$signal" "$pid" 2>/dev/null || { echo "the run ended before the signal" >> "$diag"; status=1; }
-  wait "$pid" 2>/dev/null && { echo "the killed run exited 0" >> "$diag"; status=1; }
+  rc=0; wait "$pid" 2>/dev/null || rc=$?
+  [ "$rc" = $((128 + $(kill -l "$signal"))) ] || { echo "the killed run exited $rc" >> "$diag"; status=1; }
   diff -r "$work/kill" "$work/kill.before" >> "$diag" 2>&1 || { echo "earlier results changed" >> "$diag"; status=1; }
   compgen -G "$work/kill.partial*/run.complete" > /dev/null && { echo "a complete-looking $work/kill.partial.* was left" >> "$diag"; status=1; }
-  [ "$signal" = TERM ] && compgen -G "$work/kill.partial*" > /dev/null && { echo "SIGTERM left $work/kill.partial.*" >> "$diag"; status=1; }
-  rm -rf "$work/kill.before" "$work"/kill.partial*
-  report $status "a run killed with SIG$signal leaves the earlier results untouched" "$diag"
+  if [ "$signal" != KILL ]; then
+    compgen -G "$work/kill.partial*" > /dev/null && { echo "SIG$signal left $work/kill.partial.*" >> "$diag"; status=1; }
+    long_run "$work/kill-new/a/run"                 # a new OUT in new folders: none of them is left
+    sleep 0.4
+    kill -s "$signal" "$pid" 2>/dev/null || { echo "the second run ended before the signal" >> "$diag"; status=1; }
+    wait "$pid" 2>/dev/null
+    [ -e "$work/kill-new" ] && { echo "SIG$signal left $(find "$work/kill-new")" >> "$diag"; status=1; }
+  fi
+  rm -rf "$work/kill.before" "$work"/kill.partial* "$work/kill-new"
+  report $status "a run killed with SIG$signal leaves the earlier results untouched$([ "$signal" != KILL ] && echo ", nothing else, and exits 128 + n")" "$diag"
 done
 
 # ---- reliability: nothing of the user's is touched, runs never mix, every write is checked,

@@ -11,7 +11,8 @@
 // -> OUT), then removes the replaced one.
 // An existing OUT/ is replaced only if it is empty or holds exactly the files its own
 // run.complete lists; a second run on a locked OUT/ is refused. On an error (runError) or
-// a signal (SIGINT, SIGTERM, SIGHUP), the run removes what it created and nothing else.
+// a signal (SIGINT, SIGTERM, SIGHUP, ..., and those of a crash: SIGSEGV, SIGBUS, SIGABRT, ...),
+// the run removes what it created and nothing else.
 //
 // FreeFEM functions (exit codes: 2 option, 3 scene or mesh data, 7 output folder or file):
 //   runError(int code, string message)   remove what the run created, "error: message" on
@@ -135,13 +136,45 @@ void cleanUp() {
   cleanPartial = 0; cleanOut = 0; madeParents = 0;
 }
 
+// the signals of a crash (a bug, or too little memory: FreeFEM does not check every allocation)
+const char *crashName(int signal) {
+  switch (signal) {
+    case SIGSEGV: return "SIGSEGV"; case SIGBUS: return "SIGBUS"; case SIGFPE: return "SIGFPE"; case SIGILL: return "SIGILL";
+    case SIGABRT: return "SIGABRT"; case SIGTRAP: return "SIGTRAP"; case SIGSYS: return "SIGSYS"; default: return nullptr;
+  }
+}
+void say(const char *text) { if (write(2, text, std::strlen(text)) < 0) {} }
+
+// system calls only; then the signal's default action, so that the exit status is 128 + signal
 void onSignal(int signal) {
   const bool removed = cleanPartial;
   cleanUp();
-  const char *note = removed ? "interrupted: the run removed its unfinished output folder\n" : "interrupted\n";
-  if (write(2, note, std::strlen(note)) < 0) {}
-  std::signal(signal, SIG_DFL);
-  raise(signal);
+  const char *crash = crashName(signal);
+  if (crash) { say("error: the run crashed ("); say(crash); say(": a bug, or too little memory)"); }
+  else say("interrupted");
+  say(removed ? ": the run removed its unfinished output folder\n" : "\n");
+  struct sigaction action = {};
+  action.sa_handler = SIG_DFL;
+  sigaction(signal, &action, nullptr);
+  raise(signal);                                   // blocked in here: delivered on return
+}
+
+// every signal that ends a process, from the start (an alternate stack: a stack overflow
+// can be handled too); a closed standard output (SIGPIPE) does not stop a run
+void installSignalHandlers() {
+  static char alternate[1 << 18];                  // removeTree's buffers, 8 folder levels deep
+  stack_t stack = {};
+  stack.ss_sp = alternate;
+  stack.ss_size = sizeof alternate;
+  sigaltstack(&stack, nullptr);
+  struct sigaction action = {};
+  action.sa_handler = onSignal;
+  action.sa_flags = SA_ONSTACK | SA_RESTART;
+  sigemptyset(&action.sa_mask);
+  for (int signal : {SIGINT, SIGTERM, SIGHUP, SIGQUIT, SIGUSR1, SIGUSR2, SIGALRM, SIGVTALRM, SIGPROF, SIGXCPU, SIGXFSZ,
+                     SIGSEGV, SIGBUS, SIGFPE, SIGILL, SIGABRT, SIGTRAP, SIGSYS})
+    sigaction(signal, &action, nullptr);
+  std::signal(SIGPIPE, SIG_IGN);
 }
 
 // FreeFEM points std::cerr at the standard output: write to file descriptor 2 itself
@@ -792,11 +825,7 @@ long runCheckMesh(string *const &in, string *const &out, string *const &required
 }  // namespace
 
 static void Load_Init() {
-  // from the start: a signal at any moment removes what the run has created so far; a closed
-  // standard output (SIGPIPE) does not stop a run
-  for (int signal : {SIGINT, SIGTERM, SIGHUP, SIGQUIT, SIGUSR1, SIGUSR2, SIGALRM, SIGVTALRM, SIGPROF, SIGXCPU, SIGXFSZ})
-    std::signal(signal, onSignal);
-  std::signal(SIGPIPE, SIG_IGN);
+  installSignalHandlers();                          // a signal at any moment removes what the run has created so far
   Global.Add("runError", "(", new OneOperator2_<long, long, string *>(runError));
   Global.Add("runWallClock", "(", new OneOperator0<double>(runWallClock));
   Global.Add("runProcessId", "(", new OneOperator0<long>(runProcessId));

@@ -504,6 +504,21 @@ rc=0; solve "${coarse[@]}" -out "$d.copy" >> "$diag" 2>&1 || rc=$?
 [ "$rc" = 7 ] && contains "$diag" "holds a summary.txt but no run.complete" && [ -f "$d.copy/summary.txt" ] || status=1
 report $status "data loss: the user's D.old, D.partial, D.replaced and files in D are never touched; D without run.complete is not replaced" "$diag"
 
+# a file put into OUT between the run's last check of OUT and the swap (written there by an
+# LD_PRELOAD shim, tests/data/late_file.cpp, at the exchange itself): kept, with a note
+diag="$work/latefile.diag"; : > "$diag"; status=0
+d="$work/latefile"; rm -rf "$d" "$d".*
+g++ -O2 -fPIC -shared tests/data/late_file.cpp -o "$work/late_file.so" -ldl >> "$diag" 2>&1 || status=1
+solve "${coarse[@]}" -out "$d" >> "$diag" 2>&1 || status=1
+LD_PRELOAD="$root/$work/late_file.so" LATE_FILE=notes.txt solve "${coarse[@]}" -load 5 -out "$d" >> "$diag" 2>&1 || status=1
+kept=$(compgen -G "$d.kept.*")
+[ -n "$kept" ] && [ "$(ls "$kept")" = notes.txt ] && [ "$(cat "$kept/notes.txt")" = "the user's late notes" ] \
+  || { echo "the late file was not kept alone in $d.kept.*: $(ls -d "$d"*)" >> "$diag"; status=1; }
+contains "$diag" "note: notes.txt appeared in $d while this run replaced it: .* is kept as $kept; the new results are in $d" || status=1
+grep -qx 'load 5' "$d/summary.txt" && [ -f "$d/run.complete" ] && [ ! -e "$d/notes.txt" ] || { echo "the new results are not in $d" >> "$diag"; status=1; }
+compgen -G "$d.partial*" > /dev/null && { echo "a partial folder was left" >> "$diag"; status=1; }
+report $status "data loss: a file put into OUT just before the swap is kept (OUT.kept.PID, named in a note), the new results are in OUT" "$diag"
+
 diag="$work/concurrent.diag"; : > "$diag"; status=0
 for pair in 1 2 3 4 5 6; do
   rm -rf "$work/concurrent"

@@ -8,7 +8,9 @@
 // holding a lock on OUT/ (flock on the folder itself, created empty if needed) from start to
 // end; at the end it writes OUT.partial.<pid>/run.complete, listing its files, and swaps the
 // folders in one atomic exchange (renameat2; else OUT -> OUT.replaced.<pid>, OUT.partial.<pid>
-// -> OUT), then removes the replaced one.
+// -> OUT), then removes from the replaced one the files its run.complete lists, and the folder
+// if that empties it (a file of the user's that arrived just before the swap is kept, as
+// OUT.kept.<pid>).
 // An existing OUT/ is replaced only if it is empty or holds exactly the files its own
 // run.complete lists; a second run on a locked OUT/ is refused. On an error (runError) or
 // a signal (SIGINT, SIGTERM, SIGHUP, ..., and those of a crash: SIGSEGV, SIGBUS, SIGABRT, ...),
@@ -281,6 +283,18 @@ bool makeFolders(const std::string &path, bool record = false) {
 }
 long runMakeFolders(string *const &path) { return makeFolders(*path) ? 0 : 1; }
 
+// the file names a folder's run.complete lists (plain names only); false if it has none, or
+// one without this suite's signature line
+bool completeListing(const std::string &folder, std::set<std::string> &listed) {
+  listed.clear();
+  std::ifstream f(folder + "/" + completeMarker);
+  std::string line;
+  if (!f || !std::getline(f, line) || line != completeSignature) return false;
+  while (std::getline(f, line))
+    if (!line.empty() && line != "." && line != ".." && line.find('/') == std::string::npos) listed.insert(line);
+  return true;
+}
+
 // "" if the folder may be replaced by a run (empty, or exactly the files of its
 // run.complete), else why not
 std::string whyNotReplaceable(const std::string &folder) {
@@ -288,16 +302,13 @@ std::string whyNotReplaceable(const std::string &folder) {
   if (!listFolder(folder, entries)) return "cannot be read (" + errorText() + ")";
   if (entries.empty()) return "";
   std::set<std::string> listed;
-  std::ifstream f(folder + "/" + completeMarker);
-  std::string line;
-  if (!f || !std::getline(f, line) || line != completeSignature) {
+  if (!completeListing(folder, listed)) {
     for (auto &e : entries)
       if (e.first == "summary.txt")
         return "holds a summary.txt but no run.complete (results of an older version of this suite, or of a run "
                "that did not finish)";
     return "is a folder that does not hold results of this suite (no run.complete)";
   }
-  while (std::getline(f, line)) if (!line.empty()) listed.insert(line);
   std::string foreign;
   for (auto &e : entries)
     if (e.first != completeMarker && (e.second || !listed.count(e.first))) foreign += (foreign.empty() ? "" : ", ") + e.first;
@@ -468,6 +479,30 @@ void syncFolder(const std::string &path) {
   if (fd >= 0) { fsync(fd); close(fd); }
 }
 
+// The earlier OUT once the new one has taken its place: its marker, the files the marker
+// lists, then the folder. OUT was checked just before the exchange, but a file of the user's
+// may have been put there since: then the folder is not empty, and it is kept, as
+// OUT.kept.<pid>, with a note. No file that the marker does not list is ever removed.
+void removeReplaced(const std::string &replaced) {
+  std::set<std::string> listed;
+  if (completeListing(replaced, listed)) unlink((replaced + "/" + completeMarker).c_str());   // first: never complete-looking
+  for (const std::string &name : listed) unlink((replaced + "/" + name).c_str());
+  if (rmdir(replaced.c_str()) == 0) return;
+  std::vector<std::pair<std::string, bool>> entries;
+  if (errno != ENOTEMPTY && errno != EEXIST) {
+    toStderr("note: the earlier results could not all be removed from " + replaced + " (" + errorText() + "); the new ones are in "
+             + RF.out + "\n");
+    return;
+  }
+  listFolder(replaced, entries);
+  std::string names;
+  for (auto &e : entries) names += (names.empty() ? "" : ", ") + e.first;
+  std::string kept = RF.out + ".kept." + std::to_string(getpid());
+  if (syscall(SYS_renameat2, AT_FDCWD, replaced.c_str(), AT_FDCWD, kept.c_str(), 1 /* RENAME_NOREPLACE */) != 0) kept = replaced;
+  toStderr("note: " + names + " appeared in " + RF.out + " while this run replaced it: the earlier folder, with only that, is kept as "
+           + kept + "; the new results are in " + RF.out + "\n");
+}
+
 long runFolderFinish() {
   if (!RF.partialMade || RF.lock < 0) fail(7, "runFolderFinish without runFolderOpen");
   // OUT again: files someone put there during the run are not ours to remove
@@ -508,10 +543,7 @@ long runFolderFinish() {
   syncBuffers();
   const size_t slash = RF.out.rfind('/');
   syncFolder(slash == std::string::npos ? "." : (slash == 0 ? "/" : RF.out.substr(0, slash)));
-  removeTree(replaced.c_str());                      // the earlier complete run, or the empty folder made here
-  if (access(replaced.c_str(), F_OK) == 0)
-    toStderr("note: the earlier results could not all be removed from " + replaced + " (" + errorText() + "); the new ones are in "
-             + RF.out + "\n");
+  removeReplaced(replaced);
   close(RF.lock); RF.lock = -1;
   return 0;
 }

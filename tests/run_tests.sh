@@ -587,6 +587,10 @@ interior-traction|lies inside the body, between two triangles
 interior-contact|lies inside the body, between two triangles
 gap-in-contact|has no line element: give every boundary curve a Physical Curve
 64-bit-id|does not fit FreeFEM's 32-bit ids
+two-bodies|the triangles form 2 separate pieces
+loose-triangle|the triangles form 2 separate pieces
+slit|the boundary edges \(nodes [0-9]+ [0-9]+\) and \(nodes [0-9]+ [0-9]+\) cross or overlap
+arm-over-body|the boundary edges \(nodes [0-9]+ [0-9]+\) and \(nodes [0-9]+ [0-9]+\) cross or overlap
 MESHES
 solve -mesh "$work/good.msh" -dt 0.1 -out "$work/good-mesh" >> "$diag" 2>&1 || status=1
 solve -mesh "$work/bad-meshes/clockwise.msh" -dt 0.1 -out "$work/clockwise-mesh" >> "$diag" 2>&1 || status=1
@@ -601,7 +605,7 @@ if [ -n "$cached" ]; then
   head -c 200 "$cached" > "$cached.cut" && mv "$cached.cut" "$cached"   # a truncated cache is made again
   solve "${coarse[@]}" -out "$work/cache" >> "$diag" 2>&1 && [ "$(wc -c < "$cached")" -gt 1000 ] || { echo "a truncated cached mesh" >> "$diag"; status=1; }
 fi
-report $status "meshes: undefined or unused nodes, repeated edges, overlapping or folded triangles, labels inside the body, gaps, 64-bit ids, quadrangles, order 2, tiny, long and thin, truncated files, missing dirichlet labels refused (exit 3); clockwise triangles reoriented; a bad cache remade" "$diag"
+report $status "meshes: undefined or unused nodes, repeated edges, overlapping or folded triangles, labels inside the body, gaps, 64-bit ids, two bodies, a loose triangle, a slit, crossing boundaries, quadrangles, order 2, tiny, long and thin, truncated files, missing dirichlet labels refused (exit 3); clockwise triangles reoriented; a bad cache remade" "$diag"
 
 diag="$work/signal.diag"; : > "$diag"; status=0
 rm -rf "$work/signal" "$work"/signal.partial*

@@ -46,6 +46,7 @@
 #include <algorithm>
 #include <array>
 #include <cerrno>
+#include <cfloat>
 #include <chrono>
 #include <cmath>
 #include <csignal>
@@ -587,6 +588,85 @@ std::string numberText(double x) { char b[32]; std::snprintf(b, sizeof b, "%g", 
 
 const double maxExtentRatio = 1e8;                 // extent / shortest edge (see checkMesh)
 
+// disjoint sets of triangles (union-find, with path halving)
+struct Pieces {
+  std::vector<size_t> parent;
+  size_t pieces;
+  explicit Pieces(size_t n) : parent(n), pieces(n) { for (size_t k = 0; k < n; k++) parent[k] = k; }
+  size_t root(size_t k) { while (parent[k] != k) k = parent[k] = parent[parent[k]]; return k; }
+  void join(size_t a, size_t b) { a = root(a); b = root(b); if (a != b) { parent[a] = b; pieces--; } }
+  size_t count() const { return pieces; }
+};
+
+using Point = std::array<double, 2>;
+double distanceToSegment(const Point &p, const Point &a, const Point &b) {
+  const double dx = b[0] - a[0], dy = b[1] - a[1], length2 = dx * dx + dy * dy;
+  const double t = length2 > 0 ? std::max(0., std::min(1., ((p[0] - a[0]) * dx + (p[1] - a[1]) * dy) / length2)) : 0;
+  return std::hypot(p[0] - (a[0] + t * dx), p[1] - (a[1] + t * dy));
+}
+double turn(const Point &o, const Point &a, const Point &b) { return (a[0] - o[0]) * (b[1] - o[1]) - (a[1] - o[1]) * (b[0] - o[0]); }
+
+// Do the edges (a, b) and (c, d) (node indices) meet anywhere but at a node they share? Closer
+// than tol counts as meeting.
+bool edgesMeet(long a, long b, long c, long d, const std::vector<Point> &xy, double tol) {
+  if (a == c || a == d || b == c || b == d) {       // a shared node s: overlapping if one other end lies on the other edge
+    const long s = (a == c || a == d) ? a : b, u = s == a ? b : a, v = s == c ? d : c;
+    return distanceToSegment(xy[u], xy[s], xy[v]) <= tol || distanceToSegment(xy[v], xy[s], xy[u]) <= tol;
+  }
+  if (distanceToSegment(xy[a], xy[c], xy[d]) <= tol || distanceToSegment(xy[b], xy[c], xy[d]) <= tol ||
+      distanceToSegment(xy[c], xy[a], xy[b]) <= tol || distanceToSegment(xy[d], xy[a], xy[b]) <= tol)
+    return true;
+  const double o1 = turn(xy[a], xy[b], xy[c]), o2 = turn(xy[a], xy[b], xy[d]);
+  const double o3 = turn(xy[c], xy[d], xy[a]), o4 = turn(xy[c], xy[d], xy[b]);
+  return ((o1 > 0 && o2 < 0) || (o1 < 0 && o2 > 0)) && ((o3 > 0 && o4 < 0) || (o3 < 0 && o4 > 0));
+}
+
+// Two boundary edges that meet elsewhere than at a shared end node, as {a, b, c, d}, or -1s.
+// Near-linear: a uniform grid of square cells as wide as the mean edge; each edge, cut into
+// pieces no longer than a cell, is entered in the cells the pieces touch, and only edges that
+// share a cell are compared.
+std::array<long, 4> meetingBoundaryEdges(const std::vector<Point> &xy, const std::set<std::vector<long>> &edges, double tol) {
+  const std::array<long, 4> none = {-1, -1, -1, -1};
+  std::vector<std::array<long, 2>> list;
+  double total = 0, x0 = INFINITY, y0 = INFINITY;
+  for (auto &e : edges) {
+    list.push_back({e[0], e[1]});
+    total += std::hypot(xy[e[1]][0] - xy[e[0]][0], xy[e[1]][1] - xy[e[0]][1]);
+    for (long k : e) { x0 = std::min(x0, xy[k][0]); y0 = std::min(y0, xy[k][1]); }
+  }
+  if (list.size() < 2 || !(total > 0)) return none;
+  const double h = total / list.size();
+  auto cell = [&](double x, double y) -> std::uint64_t {
+    const double ix = std::floor((x - x0) / h), iy = std::floor((y - y0) / h);
+    return ((std::uint64_t)std::max(0., ix) << 32) | (std::uint64_t)std::max(0., iy);   // below 2^32 each: the extent is < 1e8 edges
+  };
+  std::vector<std::pair<std::uint64_t, long>> entries;   // (cell, edge)
+  for (long k = 0; k < (long)list.size(); k++) {
+    const Point &p = xy[list[k][0]], &q = xy[list[k][1]];
+    const long parts = std::max(1L, (long)std::ceil(std::hypot(q[0] - p[0], q[1] - p[1]) / h));
+    for (long m = 0; m < parts; m++) {
+      const double s0 = (double)m / parts, s1 = (double)(m + 1) / parts;
+      const double ax = p[0] + s0 * (q[0] - p[0]), ay = p[1] + s0 * (q[1] - p[1]);
+      const double bx = p[0] + s1 * (q[0] - p[0]), by = p[1] + s1 * (q[1] - p[1]);
+      const std::uint64_t low = cell(std::min(ax, bx) - tol, std::min(ay, by) - tol);
+      const std::uint64_t high = cell(std::max(ax, bx) + tol, std::max(ay, by) + tol);
+      for (std::uint64_t ix = low >> 32; ix <= high >> 32; ix++)
+        for (std::uint64_t iy = low & 0xFFFFFFFFu; iy <= (high & 0xFFFFFFFFu); iy++) entries.push_back({(ix << 32) | iy, k});
+    }
+  }
+  std::sort(entries.begin(), entries.end());
+  entries.erase(std::unique(entries.begin(), entries.end()), entries.end());
+  for (size_t first = 0, last; first < entries.size(); first = last) {
+    for (last = first + 1; last < entries.size() && entries[last].first == entries[first].first; last++) {}
+    for (size_t i = first; i < last; i++)
+      for (size_t j = i + 1; j < last; j++) {
+        const auto &e = list[entries[i].second], &f = list[entries[j].second];
+        if (edgesMeet(e[0], e[1], f[0], f[1], xy, tol)) return {e[0], e[1], f[0], f[1]};
+      }
+  }
+  return none;
+}
+
 void checkMesh(const std::string &path, const std::string &outPath, const std::string &required,
                const std::string &dirichlet) {
   std::ifstream f(path, std::ios::binary);
@@ -745,7 +825,7 @@ void checkMesh(const std::string &path, const std::string &outPath, const std::s
                         ", below the 1e-8 that FreeFEM's mesh reader accepts: give the lengths in a smaller unit (millimetres instead of metres, say, with the material data in matching units)"};
     if (area < 0) { std::swap(t.nodes[1], t.nodes[2]); reoriented++; }
     for (long k : t.nodes) used[k] = 1;
-    for (int k = 0; k < 3; k++) directed[{t.nodes[k], t.nodes[(k + 1) % 3]}].push_back(t.id);
+    for (int k = 0; k < 3; k++) directed[{t.nodes[k], t.nodes[(k + 1) % 3]}].push_back(&t - triangles.data());
   }
   std::vector<long> idOf(nodeCount);
   for (auto &p : index) idOf[p.second] = p.first;
@@ -753,15 +833,17 @@ void checkMesh(const std::string &path, const std::string &outPath, const std::s
   // counterclockwise triangles run along an interior edge once each way: twice the same way is
   // a fold (triangles on the same side of it), more is an overlap
   std::set<std::vector<long>> boundaryEdges, interiorEdges;
+  Pieces pieces(triangles.size());                   // the triangles joined through their shared edges
   for (auto &e : directed) {
     const long a = e.first.first, b = e.first.second;
     const auto back = directed.find({b, a});
     const size_t forward = e.second.size(), backward = back == directed.end() ? 0 : back->second.size();
     if (forward > 1)
-      throw MeshProblem{"triangles " + std::to_string(e.second[0]) + " and " + std::to_string(e.second[1]) + " lie on the same side "
-                        "of their common edge " + edgeText(a, b) + ": the mesh is folded, tangled or overlapping"};
+      throw MeshProblem{"triangles " + std::to_string(triangles[e.second[0]].id) + " and " + std::to_string(triangles[e.second[1]].id) +
+                        " lie on the same side of their common edge " + edgeText(a, b) + ": the mesh is folded, tangled or overlapping"};
     std::vector<long> key = {std::min(a, b), std::max(a, b)};
     (backward ? interiorEdges : boundaryEdges).insert(key);
+    if (backward) pieces.join(e.second[0], back->second[0]);
   }
   for (long i = 0; i < nodeCount; i++)
     if (!used[i]) {
@@ -778,6 +860,20 @@ void checkMesh(const std::string &path, const std::string &outPath, const std::s
       throw MeshProblem{"nodes " + std::to_string(idOf[points[k - 1].second]) + " and " + std::to_string(idOf[points[k].second]) +
                         " are at the same point (" + numberText(points[k].first[0]) + ", " + numberText(points[k].first[1]) +
                         "): a crack or duplicated nodes"};
+  // one body: every triangle reached from the first through shared edges
+  for (size_t k = 1; k < triangles.size(); k++)
+    if (pieces.root(k) != pieces.root(0))
+      throw MeshProblem{"the triangles form " + std::to_string(pieces.count()) + " separate pieces (triangles " +
+                        std::to_string(triangles[0].id) + " and " + std::to_string(triangles[k].id) + " are joined by no chain of "
+                        "triangles that share edges): the mesh must be one body, not two bodies, a loose triangle, or parts that "
+                        "touch at a node only"};
+  // its boundary edges meet at their shared end nodes only
+  const double maxAbs = std::max(std::max(std::fabs(xmin), std::fabs(xmax)), std::max(std::fabs(ymin), std::fabs(ymax)));
+  const std::array<long, 4> meeting = meetingBoundaryEdges(xy, boundaryEdges, 1e-9 * shortest + 8 * DBL_EPSILON * maxAbs);
+  if (meeting[0] >= 0)
+    throw MeshProblem{"the boundary edges " + edgeText(meeting[0], meeting[1]) + " and " + edgeText(meeting[2], meeting[3]) +
+                      " cross or overlap (boundary edges may meet at a shared end node only): parts of the mesh lie over each "
+                      "other, or a slit cuts the body (a hanging node, or line elements on a cut)"};
   // the labels the suite uses ("LABEL ROLE ..." required, then the scene's Dirichlet labels)
   std::set<long> used_labels;
   {

@@ -375,6 +375,20 @@ expect_failure "T/dt not whole" 2 "option -dt = 0.3 does not divide T = 1" -dt 0
 expect_failure "too many steps" 2 "ask for more than 1e6 steps" -dt 1e-7
 expect_failure "empty value" 2 "option -mu has an empty value" -mu ''
 expect_failure "an option as a value" 2 "option -nx needs a value, got the option '-ny'" -nx -ny 3
+# control characters and line separators break readers of the outputs (summary.txt echoes the values)
+separator="holds a control character or a line separator"
+expect_failure "a vertical tab in -mesh" 2 "option -mesh $separator" -mesh $'a\vb.msh'
+expect_failure "a form feed in -scene" 2 "option -scene $separator" -scene $'paper\f'
+expect_failure "a record separator (0x1e) in -out" 2 "option -out $separator" -out "$work/a"$'\x1e'b
+expect_failure "U+0085 (next line) in -mesh" 2 "option -mesh $separator" -mesh $'a\xc2\x85b.msh'
+expect_failure "U+2028 (line separator) in -out" 2 "option -out $separator" -out "$work/a"$'\xe2\x80\xa8'b
+grep -v '^#' edp/scenes/column.scene > "$work/separator.scene"; printf 'mesh a\034b.msh\n' >> "$work/separator.scene"
+expect_failure "a file separator (0x1c) in a scene's value" 3 "separator.scene:[0-9]+: option -mesh $separator" -scene "$work/separator.scene"
+status=0
+printf 'a\034b\342\200\250c\n# d\302\205e\f\n' > "$work/separators.txt"
+"$PYTHON" -c 'import suite, sys; lines = suite.read_lines(sys.argv[1]); assert lines == ["a\x1cb\u2028c", "# d\x85e\f"], lines' \
+  "$work/separators.txt" > "$work/separators.diag" 2>&1 || status=1
+report $status "plots/suite.py reads lines split at line feeds only, not at form feeds, 0x1c or U+2028" "$work/separators.diag"
 expect_failure "a scene name with a quote and a semicolon" 2 "option -scene = 'x'y; ls': no readable scene file" -scene "x'y; ls"
 expect_failure "tol below round-off" 2 "option -tol = 1e-15 is out of range: it must be >= 1e-13" -tol 1e-15
 expect_failure "output named ." 2 "option -out = '.' is not a usable folder name" -out .

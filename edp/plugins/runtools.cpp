@@ -25,6 +25,7 @@
 //   runChecksum(string path)             the POSIX cksum of a file (-1: unreadable)
 //   runByteOrderMark(string path)        3 if the file starts with a UTF-8 byte order mark, else 0
 //   runOnlyCarriageReturns(string path)  1 if a text file has CR line ends only
+//   runControlCharacter(string text)     1 if text holds a control character or a line separator
 //   runFolderOpen(string out)            lock OUT, check it may be replaced, make OUT.partial.<pid>
 //   runFileComplete(string path, int lines)   the file has exactly that many complete lines,
 //       and is on the disk (fsync); exit 7 otherwise (a full disk, an I/O error)
@@ -246,6 +247,19 @@ long runByteOrderMark(string *const &path) {
 
 std::string errorText() { return std::strerror(errno); }
 
+// a control character (below 0x20, 0x7F, or U+0080 to U+009F in UTF-8, with U+0085, the next
+// line) or a Unicode line or paragraph separator (U+2028, U+2029): each ends a line for some
+// reader (Python's splitlines, for one), so no option value may hold one
+bool hasControlCharacter(const std::string &text) {
+  for (size_t i = 0; i < text.size(); i++) {
+    const unsigned char c = text[i], next = i + 1 < text.size() ? text[i + 1] : 0, third = i + 2 < text.size() ? text[i + 2] : 0;
+    if (c < 0x20 || c == 0x7F || (c == 0xC2 && next >= 0x80 && next <= 0x9F) || (c == 0xE2 && next == 0x80 && (third == 0xA8 || third == 0xA9)))
+      return true;
+  }
+  return false;
+}
+long runControlCharacter(string *const &text) { return hasControlCharacter(*text) ? 1 : 0; }
+
 // the entries of a folder (no . and ..), and whether each is a folder; false if unreadable
 bool listFolder(const std::string &path, std::vector<std::pair<std::string, bool>> &entries) {
   entries.clear();
@@ -360,8 +374,7 @@ long runFolderOpen(string *const &outText) {
   const std::string base = slash == std::string::npos ? out : out.substr(slash + 1);
   if (out == "/" || base == "." || base == ".." || base.empty() || out[0] == '-')
     fail(2, "option -out = '" + *outText + "' is not a usable folder name (give a new or results folder, e.g. results/run)");
-  for (unsigned char ch : out)
-    if (ch < 32 || ch == 127) fail(2, "option -out holds a control character (a line end?): give a plain folder name");
+  if (hasControlCharacter(out)) fail(2, "option -out holds a control character or a line separator: give a plain folder name");
   struct stat status;
   if (lstat(out.c_str(), &status) == 0 && S_ISLNK(status.st_mode))
     fail(7, "option -out = '" + out + "' is a symbolic link: give the folder itself (the suite replaces OUT whole)");
@@ -960,6 +973,7 @@ static void Load_Init() {
   Global.Add("runFileReadable", "(", new OneOperator1_<long, string *>(runFileReadable));
   Global.Add("runChecksum", "(", new OneOperator1_<long, string *>(runChecksum));
   Global.Add("runByteOrderMark", "(", new OneOperator1_<long, string *>(runByteOrderMark));
+  Global.Add("runControlCharacter", "(", new OneOperator1_<long, string *>(runControlCharacter));
   Global.Add("runOnlyCarriageReturns", "(", new OneOperator1_<long, string *>(runOnlyCarriageReturns));
   Global.Add("runFolderOpen", "(", new OneOperator1_<long, string *>(runFolderOpen));
   Global.Add("runFileComplete", "(", new OneOperator2_<long, string *, long>(runFileComplete));

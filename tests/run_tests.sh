@@ -466,6 +466,12 @@ solve "${coarse[@]}" -maxit 1 -out "$work/keep" >> "$diag" 2>&1 && status=1
 cmp -s "$work/keep/contact.txt" "$work/keep.contact.before" || { echo "earlier results changed" >> "$diag"; status=1; }
 compgen -G "$work/keep.partial*" > /dev/null && { echo "partial folder left behind" >> "$diag"; status=1; }
 report $status "a failed run leaves the earlier results untouched" "$diag"
+diag="$work/deep.diag"; : > "$diag"; status=0
+deep="$work/deep"; for level in $(seq 20); do deep="$deep/$level"; done
+rm -rf "$work/deep"; rc=0; solve "${coarse[@]}" -maxit 1 -out "$deep/run" >> "$diag" 2>&1 || rc=$?
+[ "$rc" = 4 ] || { echo "exit $rc, expected 4" >> "$diag"; status=1; }
+[ -e "$work/deep" ] && { echo "left: $(find "$work/deep" | tail -1)" >> "$diag"; status=1; }
+report $status "a failed run removes the 20 parent folders of -out it created" "$diag"
 
 # ---- a run killed by a signal leaves the earlier results untouched and nothing that looks valid;
 # a handled signal (TERM, or SEGV of a crash) leaves nothing at all, and the exit status 128 + n

@@ -89,7 +89,10 @@ struct RunFolder {
 };
 RunFolder RF;
 char partialPathC[4096], outPathC[4096];
-char madeParentC[16][4096];                          // parent folders of OUT made by this run (outermost first)
+// the parent folders of OUT made by this run: prefixes of one path, of these lengths (outermost
+// first; a path of 4095 bytes has at most 2048 folders)
+char madeParentPathC[4096];
+size_t madeParentLength[2048];
 char temporaryC[4096];                               // a file this run writes outside OUT (gmsh's mesh)
 volatile sig_atomic_t cleanPartial = 0, cleanOut = 0, madeParents = 0, haveTemporary = 0;
 volatile pid_t gmshChild = 0;                        // a running gmsh
@@ -136,7 +139,12 @@ void cleanUp() {
   if (haveTemporary) { unlink(temporaryC); haveTemporary = 0; }
   if (cleanPartial) removeTree(partialPathC);
   if (cleanOut) rmdir(outPathC);                    // only if still empty
-  for (int k = madeParents - 1; k >= 0; k--) rmdir(madeParentC[k]);   // only those still empty
+  for (int k = madeParents - 1; k >= 0; k--) {     // only those still empty
+    char folder[sizeof madeParentPathC];
+    for (size_t i = 0; i < madeParentLength[k]; i++) folder[i] = madeParentPathC[i];
+    folder[madeParentLength[k]] = 0;
+    rmdir(folder);
+  }
   cleanPartial = 0; cleanOut = 0; madeParents = 0;
 }
 
@@ -288,7 +296,11 @@ bool makeFolders(const std::string &path, bool record = false) {
     if (part.empty()) continue;
     partial += part;
     if (mkdir(partial.c_str(), 0777) == 0) {
-      if (record && madeParents < 16) std::snprintf(madeParentC[madeParents++], sizeof madeParentC[0], "%s", partial.c_str());
+      if (record && partial.size() < sizeof madeParentPathC && madeParents < 2048) {
+        std::memcpy(madeParentPathC, partial.c_str(), partial.size() + 1);   // extends the folders made before
+        madeParentLength[madeParents] = partial.size();
+        madeParents = madeParents + 1;
+      }
     }
     else if (errno != EEXIST) return false;
     partial += "/";

@@ -49,10 +49,13 @@ def run_tool(tool, main, code=1):
 
 
 def read_lines(path):
-    """The lines of a text file, without their line ends."""
+    """The lines of a text file, without their line ends: split at line feeds only (open()
+    reads CR LF and CR as LF), not at the other characters that str.splitlines() takes for
+    line ends (form feeds, U+2028, ...), which a line may hold."""
     try:
         with open(path) as f:
-            return f.read().splitlines()
+            text = f.read()
+        return text[:-1].split("\n") if text.endswith("\n") else (text.split("\n") if text else [])
     except FileNotFoundError:
         raise InputError(f"missing {path}") from None
     except UnicodeDecodeError:

@@ -380,6 +380,20 @@ expect_failure "T/dt not whole" 2 "option -dt = 0.3 does not divide T = 1" -dt 0
 expect_failure "too many steps" 2 "ask for more than 1e6 steps" -dt 1e-7
 expect_failure "empty value" 2 "option -mu has an empty value" -mu ''
 expect_failure "an option as a value" 2 "option -nx needs a value, got the option '-ny'" -nx -ny 3
+# control characters and line separators break readers of the outputs (summary.txt echoes the values)
+separator="holds a control character or a line separator"
+expect_failure "a vertical tab in -mesh" 2 "option -mesh $separator" -mesh $'a\vb.msh'
+expect_failure "a form feed in -scene" 2 "option -scene $separator" -scene $'paper\f'
+expect_failure "a record separator (0x1e) in -out" 2 "option -out $separator" -out "$work/a"$'\x1e'b
+expect_failure "U+0085 (next line) in -mesh" 2 "option -mesh $separator" -mesh $'a\xc2\x85b.msh'
+expect_failure "U+2028 (line separator) in -out" 2 "option -out $separator" -out "$work/a"$'\xe2\x80\xa8'b
+grep -v '^#' edp/scenes/column.scene > "$work/separator.scene"; printf 'body_force 0 a\034b\n' >> "$work/separator.scene"
+expect_failure "a file separator (0x1c) in a scene's value" 3 "separator.scene:[0-9]+: body_force: value 2 $separator" -scene "$work/separator.scene"
+status=0
+printf 'a\034b\342\200\250c\n# d\302\205e\f\n' > "$work/separators.txt"
+"$PYTHON" -c 'import suite, sys; lines = suite.read_lines(sys.argv[1]); assert lines == ["a\x1cb\u2028c", "# d\x85e\f"], lines' \
+  "$work/separators.txt" > "$work/separators.diag" 2>&1 || status=1
+report $status "plots/suite.py reads lines split at line feeds only, not at form feeds, 0x1c or U+2028" "$work/separators.diag"
 expect_failure "a scene name with a quote and a semicolon" 2 "option -scene = 'x'y; ls': no readable scene file" -scene "x'y; ls"
 expect_failure "tol below round-off" 2 "option -tol = 1e-15 is out of range: it must be >= 1e-13" -tol 1e-15
 expect_failure "output named ." 2 "option -out = '.' is not a usable folder name" -out .
@@ -559,23 +573,41 @@ solve "${coarse[@]}" -maxit 1 -out "$work/keep" >> "$diag" 2>&1 && status=1
 cmp -s "$work/keep/contact.txt" "$work/keep.contact.before" || { echo "earlier results changed" >> "$diag"; status=1; }
 compgen -G "$work/keep.partial*" > /dev/null && { echo "partial folder left behind" >> "$diag"; status=1; }
 report $status "a failed run leaves the earlier results untouched" "$diag"
+diag="$work/deep.diag"; : > "$diag"; status=0
+deep="$work/deep"; for level in $(seq 20); do deep="$deep/$level"; done
+rm -rf "$work/deep"; rc=0; solve "${coarse[@]}" -maxit 1 -out "$deep/run" >> "$diag" 2>&1 || rc=$?
+[ "$rc" = 4 ] || { echo "exit $rc, expected 4" >> "$diag"; status=1; }
+[ -e "$work/deep" ] && { echo "left: $(find "$work/deep" | tail -1)" >> "$diag"; status=1; }
+report $status "a failed run removes the 20 parent folders of -out it created" "$diag"
 
-# ---- a run killed by a signal leaves the earlier results untouched and nothing that looks valid
-for signal in TERM KILL; do
+# ---- a run killed by a signal leaves the earlier results untouched and nothing that looks valid;
+# a handled signal (TERM, or SEGV of a crash) leaves nothing at all, and the exit status 128 + n
+long_run() { # long_run OUT: a solve of about 5 s in the background (long enough to be killed), no core file
+  (ulimit -c 0; exec "${FREEFEM[@]}" edp/solve.edp -nx 66 -ny 33 -dt 0.0002 -out "$1") >> "$diag" 2>&1 &
+  pid=$!
+}
+for signal in TERM SEGV KILL; do
   diag="$work/kill.diag"; : > "$diag"; status=0
-  rm -rf "$work/kill" "$work"/kill.partial*
+  rm -rf "$work/kill" "$work"/kill.partial* "$work/kill-new"
   solve "${coarse[@]}" -out "$work/kill" > "$diag" 2>&1 || status=1
   cp -r "$work/kill" "$work/kill.before"
-  "${FREEFEM[@]}" edp/solve.edp -nx 66 -ny 33 -dt 0.0002 -out "$work/kill" >> "$diag" 2>&1 &   # about 5 s: long enough to be killed
-  pid=$!
+  long_run "$work/kill"
   sleep 0.4
   kill -s "$signal" "$pid" 2>/dev/null || { echo "the run ended before the signal" >> "$diag"; status=1; }
-  wait "$pid" 2>/dev/null && { echo "the killed run exited 0" >> "$diag"; status=1; }
+  rc=0; wait "$pid" 2>/dev/null || rc=$?
+  [ "$rc" = $((128 + $(kill -l "$signal"))) ] || { echo "the killed run exited $rc" >> "$diag"; status=1; }
   diff -r "$work/kill" "$work/kill.before" >> "$diag" 2>&1 || { echo "earlier results changed" >> "$diag"; status=1; }
   compgen -G "$work/kill.partial*/run.complete" > /dev/null && { echo "a complete-looking $work/kill.partial.* was left" >> "$diag"; status=1; }
-  [ "$signal" = TERM ] && compgen -G "$work/kill.partial*" > /dev/null && { echo "SIGTERM left $work/kill.partial.*" >> "$diag"; status=1; }
-  rm -rf "$work/kill.before" "$work"/kill.partial*
-  report $status "a run killed with SIG$signal leaves the earlier results untouched" "$diag"
+  if [ "$signal" != KILL ]; then
+    compgen -G "$work/kill.partial*" > /dev/null && { echo "SIG$signal left $work/kill.partial.*" >> "$diag"; status=1; }
+    long_run "$work/kill-new/a/run"                 # a new OUT in new folders: none of them is left
+    sleep 0.4
+    kill -s "$signal" "$pid" 2>/dev/null || { echo "the second run ended before the signal" >> "$diag"; status=1; }
+    wait "$pid" 2>/dev/null
+    [ -e "$work/kill-new" ] && { echo "SIG$signal left $(find "$work/kill-new")" >> "$diag"; status=1; }
+  fi
+  rm -rf "$work/kill.before" "$work"/kill.partial* "$work/kill-new"
+  report $status "a run killed with SIG$signal leaves the earlier results untouched$([ "$signal" != KILL ] && echo ", nothing else, and exits 128 + n")" "$diag"
 done
 
 # ---- reliability: nothing of the user's is touched, runs never mix, every write is checked,
@@ -598,6 +630,21 @@ rm "$d/notes.txt"; cp -r "$d" "$d.copy"; rm "$d.copy/run.complete"
 rc=0; solve "${coarse[@]}" -out "$d.copy" >> "$diag" 2>&1 || rc=$?
 [ "$rc" = 7 ] && contains "$diag" "holds a summary.txt but no run.complete" && [ -f "$d.copy/summary.txt" ] || status=1
 report $status "data loss: the user's D.old, D.partial, D.replaced and files in D are never touched; D without run.complete is not replaced" "$diag"
+
+# a file put into OUT between the run's last check of OUT and the swap (written there by an
+# LD_PRELOAD shim, tests/data/late_file.cpp, at the exchange itself): kept, with a note
+diag="$work/latefile.diag"; : > "$diag"; status=0
+d="$work/latefile"; rm -rf "$d" "$d".*
+g++ -O2 -fPIC -shared tests/data/late_file.cpp -o "$work/late_file.so" -ldl >> "$diag" 2>&1 || status=1
+solve "${coarse[@]}" -out "$d" >> "$diag" 2>&1 || status=1
+LD_PRELOAD="$root/$work/late_file.so" LATE_FILE=notes.txt solve "${coarse[@]}" -load 5 -out "$d" >> "$diag" 2>&1 || status=1
+kept=$(compgen -G "$d.kept.*")
+[ -n "$kept" ] && [ "$(ls "$kept")" = notes.txt ] && [ "$(cat "$kept/notes.txt")" = "the user's late notes" ] \
+  || { echo "the late file was not kept alone in $d.kept.*: $(ls -d "$d"*)" >> "$diag"; status=1; }
+contains "$diag" "note: notes.txt appeared in $d while this run replaced it: .* is kept as $kept; the new results are in $d" || status=1
+grep -qx 'load 5' "$d/summary.txt" && [ -f "$d/run.complete" ] && [ ! -e "$d/notes.txt" ] || { echo "the new results are not in $d" >> "$diag"; status=1; }
+compgen -G "$d.partial*" > /dev/null && { echo "a partial folder was left" >> "$diag"; status=1; }
+report $status "data loss: a file put into OUT just before the swap is kept (OUT.kept.PID, named in a note), the new results are in OUT" "$diag"
 
 diag="$work/concurrent.diag"; : > "$diag"; status=0
 for pair in 1 2 3 4 5 6; do
@@ -658,6 +705,7 @@ twice-listed-edge|repeats line element .* listed twice
 quadrangle|is a quadrangle \(gmsh type 3\)
 order-2|is of order 2 or more \(gmsh type 9\)
 micrometres|below the 1e-8 that FreeFEM's mesh reader accepts
+long-and-thin|extends over 5e\+07 \(its bounding box\) but its shortest edge is 0.25, more than 1e\+08 times shorter
 unused-node|is not a vertex of any triangle
 truncated|a truncated file
 overlap|lie on the same side of their common edge
@@ -666,6 +714,10 @@ interior-traction|lies inside the body, between two triangles
 interior-contact|lies inside the body, between two triangles
 gap-in-contact|has no line element: give every boundary curve a Physical Curve
 64-bit-id|does not fit FreeFEM's 32-bit ids
+two-bodies|the triangles form 2 separate pieces
+loose-triangle|the triangles form 2 separate pieces
+slit|the boundary edges \(nodes [0-9]+ [0-9]+\) and \(nodes [0-9]+ [0-9]+\) cross or overlap
+arm-over-body|the boundary edges \(nodes [0-9]+ [0-9]+\) and \(nodes [0-9]+ [0-9]+\) cross or overlap
 MESHES
 solve -mesh "$work/good.msh" -dt 0.1 -out "$work/good-mesh" >> "$diag" 2>&1 || status=1
 solve -mesh "$work/bad-meshes/clockwise.msh" -dt 0.1 -out "$work/clockwise-mesh" >> "$diag" 2>&1 || status=1
@@ -680,7 +732,7 @@ if [ -n "$cached" ]; then
   head -c 200 "$cached" > "$cached.cut" && mv "$cached.cut" "$cached"   # a truncated cache is made again
   solve "${coarse[@]}" -out "$work/cache" >> "$diag" 2>&1 && [ "$(wc -c < "$cached")" -gt 1000 ] || { echo "a truncated cached mesh" >> "$diag"; status=1; }
 fi
-report $status "meshes: undefined or unused nodes, repeated edges, overlapping or folded triangles, labels inside the body, gaps, 64-bit ids, quadrangles, order 2, tiny, truncated files, missing dirichlet labels refused (exit 3); clockwise triangles reoriented; a bad cache remade" "$diag"
+report $status "meshes: undefined or unused nodes, repeated edges, overlapping or folded triangles, labels inside the body, gaps, 64-bit ids, two bodies, a loose triangle, a slit, crossing boundaries, quadrangles, order 2, tiny, long and thin, truncated files, missing dirichlet labels refused (exit 3); clockwise triangles reoriented; a bad cache remade" "$diag"
 
 diag="$work/signal.diag"; : > "$diag"; status=0
 rm -rf "$work/signal" "$work"/signal.partial*
@@ -705,6 +757,7 @@ Lx 0|Lx must be a number > 0, got '0'
 load 5|'load' is given a second time
 contact_normal 0 -1e400|contact_normal needs two finite numbers
 geometry ../rectangle|a name of meshes/NAME.geo
+Lx 1e10|Lx 1e10 and Ly 2 with 8 x 16 cells make a mesh that extends over 1e\+10 but whose shortest edge is 0.125, more than 1e\+08 times shorter
 SCENES
 rc=0; solve "${coarse[@]}" -E 1e300 -out "$work/message" > "$work/message.log" 2>&1 || rc=$?
 [ "$rc" = 2 ] && grep -q "give matrix entries up to .*use other units" "$work/message.log" || { echo "-E 1e300: exit $rc" >> "$diag"; status=1; }
@@ -713,7 +766,7 @@ rc=0; bash tests/run_tests.sh --bless '' > "$work/message.log" 2>&1 || rc=$?
 mkdir -p "$work/corrupt/paper-original" "$work/corrupt/paper-penalty"; printf 'garbage\n\001\377\n' > "$work/corrupt/paper-original/summary.txt"
 "$PYTHON" plots/tables.py --results "$work/corrupt" > "$work/message.log" 2>&1 && status=1
 [ "$(wc -l < "$work/message.log")" = 1 ] && ! grep -q Traceback "$work/message.log" || { echo "tables.py on a corrupt summary:" >> "$diag"; cat "$work/message.log" >> "$diag"; status=1; }
-report $status "messages: a byte order mark is read; Lx 0, repeated keys, non-finite numbers, odd names, -E 1e300 named; --bless '' and corrupt inputs give one line" "$diag"
+report $status "messages: a byte order mark is read; Lx 0, Lx 1e10 (before gmsh), repeated keys, non-finite numbers, odd names, -E 1e300 named; --bless '' and corrupt inputs give one line" "$diag"
 
 # ---- reproducibility: the same options give byte-identical outputs (timings aside)
 diag="$work/repro.diag"; : > "$diag"; status=0

@@ -8,10 +8,13 @@
 // holding a lock on OUT/ (flock on the folder itself, created empty if needed) from start to
 // end; at the end it writes OUT.partial.<pid>/run.complete, listing its files, and swaps the
 // folders in one atomic exchange (renameat2; else OUT -> OUT.replaced.<pid>, OUT.partial.<pid>
-// -> OUT), then removes the replaced one.
+// -> OUT), then removes from the replaced one the files its run.complete lists, and the folder
+// if that empties it (a file of the user's that arrived just before the swap is kept, as
+// OUT.kept.<pid>).
 // An existing OUT/ is replaced only if it is empty or holds exactly the files its own
 // run.complete lists; a second run on a locked OUT/ is refused. On an error (runError) or
-// a signal (SIGINT, SIGTERM, SIGHUP), the run removes what it created and nothing else.
+// a signal (SIGINT, SIGTERM, SIGHUP, ..., and those of a crash: SIGSEGV, SIGBUS, SIGABRT, ...),
+// the run removes what it created and nothing else.
 //
 // FreeFEM functions (exit codes: 2 option, 3 scene or mesh data, 7 output folder or file):
 //   runError(int code, string message)   remove what the run created, "error: message" on
@@ -22,6 +25,7 @@
 //   runChecksum(string path)             the POSIX cksum of a file (-1: unreadable)
 //   runByteOrderMark(string path)        3 if the file starts with a UTF-8 byte order mark, else 0
 //   runOnlyCarriageReturns(string path)  1 if a text file has CR line ends only
+//   runControlCharacter(string text)     1 if text holds a control character or a line separator
 //   runFolderOpen(string out)            lock OUT, check it may be replaced, make OUT.partial.<pid>
 //   runFileComplete(string path, int lines)   the file has exactly that many complete lines,
 //       and is on the disk (fsync); exit 7 otherwise (a full disk, an I/O error)
@@ -37,11 +41,13 @@
 //       int fatal)   check a gmsh MSH 2.2 file before FreeFEM reads it (see checkMesh below)
 //       and write it to out, clockwise triangles reoriented; on a problem: exit 3 with
 //       "what: why" (fatal), or return 1; exit 7 if out cannot be written
+//   runMeshExtentRatio()                 1e8: the largest extent / shortest edge a mesh may have
 #include "ff++.hpp"
 #include "AFunction_ext.hpp"
 #include <algorithm>
 #include <array>
 #include <cerrno>
+#include <cfloat>
 #include <chrono>
 #include <cmath>
 #include <csignal>
@@ -83,7 +89,10 @@ struct RunFolder {
 };
 RunFolder RF;
 char partialPathC[4096], outPathC[4096];
-char madeParentC[16][4096];                          // parent folders of OUT made by this run (outermost first)
+// the parent folders of OUT made by this run: prefixes of one path, of these lengths (outermost
+// first; a path of 4095 bytes has at most 2048 folders)
+char madeParentPathC[4096];
+size_t madeParentLength[2048];
 char temporaryC[4096];                               // a file this run writes outside OUT (gmsh's mesh)
 volatile sig_atomic_t cleanPartial = 0, cleanOut = 0, madeParents = 0, haveTemporary = 0;
 volatile pid_t gmshChild = 0;                        // a running gmsh
@@ -130,17 +139,54 @@ void cleanUp() {
   if (haveTemporary) { unlink(temporaryC); haveTemporary = 0; }
   if (cleanPartial) removeTree(partialPathC);
   if (cleanOut) rmdir(outPathC);                    // only if still empty
-  for (int k = madeParents - 1; k >= 0; k--) rmdir(madeParentC[k]);   // only those still empty
+  for (int k = madeParents - 1; k >= 0; k--) {     // only those still empty
+    char folder[sizeof madeParentPathC];
+    for (size_t i = 0; i < madeParentLength[k]; i++) folder[i] = madeParentPathC[i];
+    folder[madeParentLength[k]] = 0;
+    rmdir(folder);
+  }
   cleanPartial = 0; cleanOut = 0; madeParents = 0;
 }
 
+// the signals of a crash (a bug, or too little memory: FreeFEM does not check every allocation)
+const char *crashName(int signal) {
+  switch (signal) {
+    case SIGSEGV: return "SIGSEGV"; case SIGBUS: return "SIGBUS"; case SIGFPE: return "SIGFPE"; case SIGILL: return "SIGILL";
+    case SIGABRT: return "SIGABRT"; case SIGTRAP: return "SIGTRAP"; case SIGSYS: return "SIGSYS"; default: return nullptr;
+  }
+}
+void say(const char *text) { if (write(2, text, std::strlen(text)) < 0) {} }
+
+// system calls only; then the signal's default action, so that the exit status is 128 + signal
 void onSignal(int signal) {
   const bool removed = cleanPartial;
   cleanUp();
-  const char *note = removed ? "interrupted: the run removed its unfinished output folder\n" : "interrupted\n";
-  if (write(2, note, std::strlen(note)) < 0) {}
-  std::signal(signal, SIG_DFL);
-  raise(signal);
+  const char *crash = crashName(signal);
+  if (crash) { say("error: the run crashed ("); say(crash); say(": a bug, or too little memory)"); }
+  else say("interrupted");
+  say(removed ? ": the run removed its unfinished output folder\n" : "\n");
+  struct sigaction action = {};
+  action.sa_handler = SIG_DFL;
+  sigaction(signal, &action, nullptr);
+  raise(signal);                                   // blocked in here: delivered on return
+}
+
+// every signal that ends a process, from the start (an alternate stack: a stack overflow
+// can be handled too); a closed standard output (SIGPIPE) does not stop a run
+void installSignalHandlers() {
+  static char alternate[1 << 18];                  // removeTree's buffers, 8 folder levels deep
+  stack_t stack = {};
+  stack.ss_sp = alternate;
+  stack.ss_size = sizeof alternate;
+  sigaltstack(&stack, nullptr);
+  struct sigaction action = {};
+  action.sa_handler = onSignal;
+  action.sa_flags = SA_ONSTACK | SA_RESTART;
+  sigemptyset(&action.sa_mask);
+  for (int signal : {SIGINT, SIGTERM, SIGHUP, SIGQUIT, SIGUSR1, SIGUSR2, SIGALRM, SIGVTALRM, SIGPROF, SIGXCPU, SIGXFSZ,
+                     SIGSEGV, SIGBUS, SIGFPE, SIGILL, SIGABRT, SIGTRAP, SIGSYS})
+    sigaction(signal, &action, nullptr);
+  std::signal(SIGPIPE, SIG_IGN);
 }
 
 // FreeFEM points std::cerr at the standard output: write to file descriptor 2 itself
@@ -209,6 +255,19 @@ long runByteOrderMark(string *const &path) {
 
 std::string errorText() { return std::strerror(errno); }
 
+// a control character (below 0x20, 0x7F, or U+0080 to U+009F in UTF-8, with U+0085, the next
+// line) or a Unicode line or paragraph separator (U+2028, U+2029): each ends a line for some
+// reader (Python's splitlines, for one), so no option value may hold one
+bool hasControlCharacter(const std::string &text) {
+  for (size_t i = 0; i < text.size(); i++) {
+    const unsigned char c = text[i], next = i + 1 < text.size() ? text[i + 1] : 0, third = i + 2 < text.size() ? text[i + 2] : 0;
+    if (c < 0x20 || c == 0x7F || (c == 0xC2 && next >= 0x80 && next <= 0x9F) || (c == 0xE2 && next == 0x80 && (third == 0xA8 || third == 0xA9)))
+      return true;
+  }
+  return false;
+}
+long runControlCharacter(string *const &text) { return hasControlCharacter(*text) ? 1 : 0; }
+
 // the entries of a folder (no . and ..), and whether each is a folder; false if unreadable
 bool listFolder(const std::string &path, std::vector<std::pair<std::string, bool>> &entries) {
   entries.clear();
@@ -237,7 +296,11 @@ bool makeFolders(const std::string &path, bool record = false) {
     if (part.empty()) continue;
     partial += part;
     if (mkdir(partial.c_str(), 0777) == 0) {
-      if (record && madeParents < 16) std::snprintf(madeParentC[madeParents++], sizeof madeParentC[0], "%s", partial.c_str());
+      if (record && partial.size() < sizeof madeParentPathC && madeParents < 2048) {
+        std::memcpy(madeParentPathC, partial.c_str(), partial.size() + 1);   // extends the folders made before
+        madeParentLength[madeParents] = partial.size();
+        madeParents = madeParents + 1;
+      }
     }
     else if (errno != EEXIST) return false;
     partial += "/";
@@ -247,6 +310,18 @@ bool makeFolders(const std::string &path, bool record = false) {
 }
 long runMakeFolders(string *const &path) { return makeFolders(*path) ? 0 : 1; }
 
+// the file names a folder's run.complete lists (plain names only); false if it has none, or
+// one without this suite's signature line
+bool completeListing(const std::string &folder, std::set<std::string> &listed) {
+  listed.clear();
+  std::ifstream f(folder + "/" + completeMarker);
+  std::string line;
+  if (!f || !std::getline(f, line) || line != completeSignature) return false;
+  while (std::getline(f, line))
+    if (!line.empty() && line != "." && line != ".." && line.find('/') == std::string::npos) listed.insert(line);
+  return true;
+}
+
 // "" if the folder may be replaced by a run (empty, or exactly the files of its
 // run.complete), else why not
 std::string whyNotReplaceable(const std::string &folder) {
@@ -254,16 +329,13 @@ std::string whyNotReplaceable(const std::string &folder) {
   if (!listFolder(folder, entries)) return "cannot be read (" + errorText() + ")";
   if (entries.empty()) return "";
   std::set<std::string> listed;
-  std::ifstream f(folder + "/" + completeMarker);
-  std::string line;
-  if (!f || !std::getline(f, line) || line != completeSignature) {
+  if (!completeListing(folder, listed)) {
     for (auto &e : entries)
       if (e.first == "summary.txt")
         return "holds a summary.txt but no run.complete (results of an older version of this suite, or of a run "
                "that did not finish)";
     return "is a folder that does not hold results of this suite (no run.complete)";
   }
-  while (std::getline(f, line)) if (!line.empty()) listed.insert(line);
   std::string foreign;
   for (auto &e : entries)
     if (e.first != completeMarker && (e.second || !listed.count(e.first))) foreign += (foreign.empty() ? "" : ", ") + e.first;
@@ -314,8 +386,7 @@ long runFolderOpen(string *const &outText) {
   const std::string base = slash == std::string::npos ? out : out.substr(slash + 1);
   if (out == "/" || base == "." || base == ".." || base.empty() || out[0] == '-')
     fail(2, "option -out = '" + *outText + "' is not a usable folder name (give a new or results folder, e.g. results/run)");
-  for (unsigned char ch : out)
-    if (ch < 32 || ch == 127) fail(2, "option -out holds a control character (a line end?): give a plain folder name");
+  if (hasControlCharacter(out)) fail(2, "option -out holds a control character or a line separator: give a plain folder name");
   struct stat status;
   if (lstat(out.c_str(), &status) == 0 && S_ISLNK(status.st_mode))
     fail(7, "option -out = '" + out + "' is a symbolic link: give the folder itself (the suite replaces OUT whole)");
@@ -434,6 +505,30 @@ void syncFolder(const std::string &path) {
   if (fd >= 0) { fsync(fd); close(fd); }
 }
 
+// The earlier OUT once the new one has taken its place: its marker, the files the marker
+// lists, then the folder. OUT was checked just before the exchange, but a file of the user's
+// may have been put there since: then the folder is not empty, and it is kept, as
+// OUT.kept.<pid>, with a note. No file that the marker does not list is ever removed.
+void removeReplaced(const std::string &replaced) {
+  std::set<std::string> listed;
+  if (completeListing(replaced, listed)) unlink((replaced + "/" + completeMarker).c_str());   // first: never complete-looking
+  for (const std::string &name : listed) unlink((replaced + "/" + name).c_str());
+  if (rmdir(replaced.c_str()) == 0) return;
+  std::vector<std::pair<std::string, bool>> entries;
+  if (errno != ENOTEMPTY && errno != EEXIST) {
+    toStderr("note: the earlier results could not all be removed from " + replaced + " (" + errorText() + "); the new ones are in "
+             + RF.out + "\n");
+    return;
+  }
+  listFolder(replaced, entries);
+  std::string names;
+  for (auto &e : entries) names += (names.empty() ? "" : ", ") + e.first;
+  std::string kept = RF.out + ".kept." + std::to_string(getpid());
+  if (syscall(SYS_renameat2, AT_FDCWD, replaced.c_str(), AT_FDCWD, kept.c_str(), 1 /* RENAME_NOREPLACE */) != 0) kept = replaced;
+  toStderr("note: " + names + " appeared in " + RF.out + " while this run replaced it: the earlier folder, with only that, is kept as "
+           + kept + "; the new results are in " + RF.out + "\n");
+}
+
 long runFolderFinish() {
   if (!RF.partialMade || RF.lock < 0) fail(7, "runFolderFinish without runFolderOpen");
   // OUT again: files someone put there during the run are not ours to remove
@@ -474,10 +569,7 @@ long runFolderFinish() {
   syncBuffers();
   const size_t slash = RF.out.rfind('/');
   syncFolder(slash == std::string::npos ? "." : (slash == 0 ? "/" : RF.out.substr(0, slash)));
-  removeTree(replaced.c_str());                      // the earlier complete run, or the empty folder made here
-  if (access(replaced.c_str(), F_OK) == 0)
-    toStderr("note: the earlier results could not all be removed from " + replaced + " (" + errorText() + "); the new ones are in "
-             + RF.out + "\n");
+  removeReplaced(replaced);
   close(RF.lock); RF.lock = -1;
   return 0;
 }
@@ -518,6 +610,87 @@ struct WriteProblem { std::string why; };          // the checked copy could not
 struct Element { long id; int type; std::vector<long> tags, nodes; };
 
 std::string numberText(double x) { char b[32]; std::snprintf(b, sizeof b, "%g", x); return b; }
+
+const double maxExtentRatio = 1e8;                 // extent / shortest edge (see checkMesh)
+
+// disjoint sets of triangles (union-find, with path halving)
+struct Pieces {
+  std::vector<size_t> parent;
+  size_t pieces;
+  explicit Pieces(size_t n) : parent(n), pieces(n) { for (size_t k = 0; k < n; k++) parent[k] = k; }
+  size_t root(size_t k) { while (parent[k] != k) k = parent[k] = parent[parent[k]]; return k; }
+  void join(size_t a, size_t b) { a = root(a); b = root(b); if (a != b) { parent[a] = b; pieces--; } }
+  size_t count() const { return pieces; }
+};
+
+using Point = std::array<double, 2>;
+double distanceToSegment(const Point &p, const Point &a, const Point &b) {
+  const double dx = b[0] - a[0], dy = b[1] - a[1], length2 = dx * dx + dy * dy;
+  const double t = length2 > 0 ? std::max(0., std::min(1., ((p[0] - a[0]) * dx + (p[1] - a[1]) * dy) / length2)) : 0;
+  return std::hypot(p[0] - (a[0] + t * dx), p[1] - (a[1] + t * dy));
+}
+double turn(const Point &o, const Point &a, const Point &b) { return (a[0] - o[0]) * (b[1] - o[1]) - (a[1] - o[1]) * (b[0] - o[0]); }
+
+// Do the edges (a, b) and (c, d) (node indices) meet anywhere but at a node they share? Closer
+// than tol counts as meeting.
+bool edgesMeet(long a, long b, long c, long d, const std::vector<Point> &xy, double tol) {
+  if (a == c || a == d || b == c || b == d) {       // a shared node s: overlapping if one other end lies on the other edge
+    const long s = (a == c || a == d) ? a : b, u = s == a ? b : a, v = s == c ? d : c;
+    return distanceToSegment(xy[u], xy[s], xy[v]) <= tol || distanceToSegment(xy[v], xy[s], xy[u]) <= tol;
+  }
+  if (distanceToSegment(xy[a], xy[c], xy[d]) <= tol || distanceToSegment(xy[b], xy[c], xy[d]) <= tol ||
+      distanceToSegment(xy[c], xy[a], xy[b]) <= tol || distanceToSegment(xy[d], xy[a], xy[b]) <= tol)
+    return true;
+  const double o1 = turn(xy[a], xy[b], xy[c]), o2 = turn(xy[a], xy[b], xy[d]);
+  const double o3 = turn(xy[c], xy[d], xy[a]), o4 = turn(xy[c], xy[d], xy[b]);
+  return ((o1 > 0 && o2 < 0) || (o1 < 0 && o2 > 0)) && ((o3 > 0 && o4 < 0) || (o3 < 0 && o4 > 0));
+}
+
+// Two boundary edges that meet elsewhere than at a shared end node, as {a, b, c, d}, or -1s.
+// Near-linear: a uniform grid of square cells as wide as the mean edge; each edge, cut into
+// pieces no longer than a cell, is entered in the cells the pieces touch, and only edges that
+// share a cell are compared.
+std::array<long, 4> meetingBoundaryEdges(const std::vector<Point> &xy, const std::set<std::vector<long>> &edges, double tol) {
+  const std::array<long, 4> none = {-1, -1, -1, -1};
+  std::vector<std::array<long, 2>> list;
+  double total = 0, x0 = INFINITY, y0 = INFINITY;
+  for (auto &e : edges) {
+    list.push_back({e[0], e[1]});
+    total += std::hypot(xy[e[1]][0] - xy[e[0]][0], xy[e[1]][1] - xy[e[0]][1]);
+    for (long k : e) { x0 = std::min(x0, xy[k][0]); y0 = std::min(y0, xy[k][1]); }
+  }
+  if (list.size() < 2 || !(total > 0)) return none;
+  const double h = total / list.size();
+  auto cell = [&](double x, double y) -> std::uint64_t {
+    const double ix = std::floor((x - x0) / h), iy = std::floor((y - y0) / h);
+    return ((std::uint64_t)std::max(0., ix) << 32) | (std::uint64_t)std::max(0., iy);   // below 2^32 each: the extent is < 1e8 edges
+  };
+  std::vector<std::pair<std::uint64_t, long>> entries;   // (cell, edge)
+  for (long k = 0; k < (long)list.size(); k++) {
+    const Point &p = xy[list[k][0]], &q = xy[list[k][1]];
+    const long parts = std::max(1L, (long)std::ceil(std::hypot(q[0] - p[0], q[1] - p[1]) / h));
+    for (long m = 0; m < parts; m++) {
+      const double s0 = (double)m / parts, s1 = (double)(m + 1) / parts;
+      const double ax = p[0] + s0 * (q[0] - p[0]), ay = p[1] + s0 * (q[1] - p[1]);
+      const double bx = p[0] + s1 * (q[0] - p[0]), by = p[1] + s1 * (q[1] - p[1]);
+      const std::uint64_t low = cell(std::min(ax, bx) - tol, std::min(ay, by) - tol);
+      const std::uint64_t high = cell(std::max(ax, bx) + tol, std::max(ay, by) + tol);
+      for (std::uint64_t ix = low >> 32; ix <= high >> 32; ix++)
+        for (std::uint64_t iy = low & 0xFFFFFFFFu; iy <= (high & 0xFFFFFFFFu); iy++) entries.push_back({(ix << 32) | iy, k});
+    }
+  }
+  std::sort(entries.begin(), entries.end());
+  entries.erase(std::unique(entries.begin(), entries.end()), entries.end());
+  for (size_t first = 0, last; first < entries.size(); first = last) {
+    for (last = first + 1; last < entries.size() && entries[last].first == entries[first].first; last++) {}
+    for (size_t i = first; i < last; i++)
+      for (size_t j = i + 1; j < last; j++) {
+        const auto &e = list[entries[i].second], &f = list[entries[j].second];
+        if (edgesMeet(e[0], e[1], f[0], f[1], xy, tol)) return {e[0], e[1], f[0], f[1]};
+      }
+  }
+  return none;
+}
 
 void checkMesh(const std::string &path, const std::string &outPath, const std::string &required,
                const std::string &dirichlet) {
@@ -644,6 +817,20 @@ void checkMesh(const std::string &path, const std::string &outPath, const std::s
     }
   }
   if (triangles.empty()) throw MeshProblem{"no triangle (does the .geo define a Physical Surface?)"};
+  // extent against the shortest edge: FreeFEM's reader exhausts the memory (tens of GB) on a
+  // mesh whose extent is about 2^30 times its shortest edge; refused well before (1e8)
+  double shortest = INFINITY;
+  for (const Element &t : triangles)
+    for (int k = 0; k < 3; k++) {
+      const auto &p = xy[t.nodes[k]], &q = xy[t.nodes[(k + 1) % 3]];
+      shortest = std::min(shortest, std::hypot(q[0] - p[0], q[1] - p[1]));
+    }
+  const double extent = std::max(xmax - xmin, ymax - ymin);
+  if (shortest > 0 && extent > maxExtentRatio * shortest)
+    throw MeshProblem{"the mesh extends over " + numberText(extent) + " (its bounding box) but its shortest edge is " +
+                      numberText(shortest) + ", more than " + numberText(maxExtentRatio) + " times shorter, which FreeFEM's "
+                      "mesh reader cannot handle (it exhausts the memory): give the lengths in other units, or cells closer "
+                      "in size (a coarser ratio)"};
   // triangles: positive area, relative to their own size; FreeFEM's reader needs >= 1e-8
   std::vector<char> used(nodeCount, 0);
   std::map<std::pair<long, long>, std::vector<long>> directed;   // directed edge -> the triangles that run along it
@@ -663,7 +850,7 @@ void checkMesh(const std::string &path, const std::string &outPath, const std::s
                         ", below the 1e-8 that FreeFEM's mesh reader accepts: give the lengths in a smaller unit (millimetres instead of metres, say, with the material data in matching units)"};
     if (area < 0) { std::swap(t.nodes[1], t.nodes[2]); reoriented++; }
     for (long k : t.nodes) used[k] = 1;
-    for (int k = 0; k < 3; k++) directed[{t.nodes[k], t.nodes[(k + 1) % 3]}].push_back(t.id);
+    for (int k = 0; k < 3; k++) directed[{t.nodes[k], t.nodes[(k + 1) % 3]}].push_back(&t - triangles.data());
   }
   std::vector<long> idOf(nodeCount);
   for (auto &p : index) idOf[p.second] = p.first;
@@ -671,15 +858,17 @@ void checkMesh(const std::string &path, const std::string &outPath, const std::s
   // counterclockwise triangles run along an interior edge once each way: twice the same way is
   // a fold (triangles on the same side of it), more is an overlap
   std::set<std::vector<long>> boundaryEdges, interiorEdges;
+  Pieces pieces(triangles.size());                   // the triangles joined through their shared edges
   for (auto &e : directed) {
     const long a = e.first.first, b = e.first.second;
     const auto back = directed.find({b, a});
     const size_t forward = e.second.size(), backward = back == directed.end() ? 0 : back->second.size();
     if (forward > 1)
-      throw MeshProblem{"triangles " + std::to_string(e.second[0]) + " and " + std::to_string(e.second[1]) + " lie on the same side "
-                        "of their common edge " + edgeText(a, b) + ": the mesh is folded, tangled or overlapping"};
+      throw MeshProblem{"triangles " + std::to_string(triangles[e.second[0]].id) + " and " + std::to_string(triangles[e.second[1]].id) +
+                        " lie on the same side of their common edge " + edgeText(a, b) + ": the mesh is folded, tangled or overlapping"};
     std::vector<long> key = {std::min(a, b), std::max(a, b)};
     (backward ? interiorEdges : boundaryEdges).insert(key);
+    if (backward) pieces.join(e.second[0], back->second[0]);
   }
   for (long i = 0; i < nodeCount; i++)
     if (!used[i]) {
@@ -696,6 +885,20 @@ void checkMesh(const std::string &path, const std::string &outPath, const std::s
       throw MeshProblem{"nodes " + std::to_string(idOf[points[k - 1].second]) + " and " + std::to_string(idOf[points[k].second]) +
                         " are at the same point (" + numberText(points[k].first[0]) + ", " + numberText(points[k].first[1]) +
                         "): a crack or duplicated nodes"};
+  // one body: every triangle reached from the first through shared edges
+  for (size_t k = 1; k < triangles.size(); k++)
+    if (pieces.root(k) != pieces.root(0))
+      throw MeshProblem{"the triangles form " + std::to_string(pieces.count()) + " separate pieces (triangles " +
+                        std::to_string(triangles[0].id) + " and " + std::to_string(triangles[k].id) + " are joined by no chain of "
+                        "triangles that share edges): the mesh must be one body, not two bodies, a loose triangle, or parts that "
+                        "touch at a node only"};
+  // its boundary edges meet at their shared end nodes only
+  const double maxAbs = std::max(std::max(std::fabs(xmin), std::fabs(xmax)), std::max(std::fabs(ymin), std::fabs(ymax)));
+  const std::array<long, 4> meeting = meetingBoundaryEdges(xy, boundaryEdges, 1e-9 * shortest + 8 * DBL_EPSILON * maxAbs);
+  if (meeting[0] >= 0)
+    throw MeshProblem{"the boundary edges " + edgeText(meeting[0], meeting[1]) + " and " + edgeText(meeting[2], meeting[3]) +
+                      " cross or overlap (boundary edges may meet at a shared end node only): parts of the mesh lie over each "
+                      "other, or a slit cuts the body (a hanging node, or line elements on a cut)"};
   // the labels the suite uses ("LABEL ROLE ..." required, then the scene's Dirichlet labels)
   std::set<long> used_labels;
   {
@@ -757,6 +960,8 @@ void checkMesh(const std::string &path, const std::string &outPath, const std::s
   (void)reoriented;
 }
 
+double runMeshExtentRatio() { return maxExtentRatio; }
+
 long runCheckMesh(string *const &in, string *const &out, string *const &required, string *const &dirichlet,
                   string *const &what, const long &fatal) {
   try {
@@ -773,17 +978,14 @@ long runCheckMesh(string *const &in, string *const &out, string *const &required
 }  // namespace
 
 static void Load_Init() {
-  // from the start: a signal at any moment removes what the run has created so far; a closed
-  // standard output (SIGPIPE) does not stop a run
-  for (int signal : {SIGINT, SIGTERM, SIGHUP, SIGQUIT, SIGUSR1, SIGUSR2, SIGALRM, SIGVTALRM, SIGPROF, SIGXCPU, SIGXFSZ})
-    std::signal(signal, onSignal);
-  std::signal(SIGPIPE, SIG_IGN);
+  installSignalHandlers();                          // a signal at any moment removes what the run has created so far
   Global.Add("runError", "(", new OneOperator2_<long, long, string *>(runError));
   Global.Add("runWallClock", "(", new OneOperator0<double>(runWallClock));
   Global.Add("runProcessId", "(", new OneOperator0<long>(runProcessId));
   Global.Add("runFileReadable", "(", new OneOperator1_<long, string *>(runFileReadable));
   Global.Add("runChecksum", "(", new OneOperator1_<long, string *>(runChecksum));
   Global.Add("runByteOrderMark", "(", new OneOperator1_<long, string *>(runByteOrderMark));
+  Global.Add("runControlCharacter", "(", new OneOperator1_<long, string *>(runControlCharacter));
   Global.Add("runOnlyCarriageReturns", "(", new OneOperator1_<long, string *>(runOnlyCarriageReturns));
   Global.Add("runFolderOpen", "(", new OneOperator1_<long, string *>(runFolderOpen));
   Global.Add("runFileComplete", "(", new OneOperator2_<long, string *, long>(runFileComplete));
@@ -794,6 +996,7 @@ static void Load_Init() {
   Global.Add("runMakeFolders", "(", new OneOperator1_<long, string *>(runMakeFolders));
   Global.Add("runFolderFinish", "(", new OneOperator0<long>(runFolderFinish));
   Global.Add("runGmsh", "(", new OneOperator3_<long, string *, string *, string *>(runGmsh));
+  Global.Add("runMeshExtentRatio", "(", new OneOperator0<double>(runMeshExtentRatio));
   Global.Add("runCheckMesh", "(", new OneOperator6_<long, string *, string *, string *, string *, string *, long>(runCheckMesh));
 }
 

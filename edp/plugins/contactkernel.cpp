@@ -183,8 +183,10 @@ long nodes(KN<double> *const &px, KN<double> *const &pw, KN<double> *const &pg, 
     if (checkLaw(L.P, g[i], why)) {
       // FreeFEM points std::cerr at the standard output: write to stderr itself
       std::fflush(nullptr);
-      std::fprintf(stderr, "error: the law of edp/plugins/contactlaw.hpp cannot be used: %s (c_nu = %g, mu = %g, g = %g)\n",
-                   why.c_str(), L.P.cnu, L.P.mu, g[i]);
+      static const char *family[] = {"", "; p is the scene's damping power: check that line",
+                                     "; p is the scene's damping table: check that line"};
+      std::fprintf(stderr, "error: the law of edp/plugins/contactlaw.hpp cannot be used: %s (c_nu = %g, mu = %g, g = %g)%s\n",
+                   why.c_str(), L.P.cnu, L.P.mu, g[i], family[L.P.damping >= 1 && L.P.damping <= 2 ? L.P.damping : 0]);
       std::fflush(stderr);
       return 1;
     }

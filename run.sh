@@ -14,7 +14,7 @@ here="$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)"
 
 # Debian's python3-matplotlib is installed for /usr/bin/python3 only: use it everywhere.
 PYTHON=/usr/bin/python3
-PACKAGES=(freefem++ libfreefem++ gmsh numdiff python3 python3-numpy python3-matplotlib libopenblas0-pthread time
+PACKAGES=(freefem++ libfreefem++ gmsh numdiff python3 python3-numpy python3-matplotlib python3-vtk9 libopenblas0-pthread time
           g++ libfreefem++-dev libsuitesparse-dev liblapack-dev libblas-dev)
 
 missing_dependencies() { # missing_dependencies [solve]: "solve" skips what only tests and plots need
@@ -24,7 +24,7 @@ missing_dependencies() { # missing_dependencies [solve]: "solve" skips what only
   kernel_buildable || return 0
   [ "${1:-}" = solve ] && return 1
   command -v numdiff >/dev/null 2>&1 || return 0
-  "$PYTHON" -c 'import numpy, matplotlib' >/dev/null 2>&1 || return 0
+  "$PYTHON" -c 'import numpy, matplotlib, vtk' >/dev/null 2>&1 || return 0   # vtk: the tests read -vtk output back
   [ -e /usr/lib/x86_64-linux-gnu/openblas-pthread/libblas.so.3 ] || [ ! -d /usr/lib/x86_64-linux-gnu ] || return 0
   [ -x /usr/bin/time ] || return 0
   return 1

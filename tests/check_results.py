@@ -6,7 +6,9 @@ Reads only the text outputs (nothing of the solver), so it is an independent che
   constraint and complementarity (original problem), the penalty law (penalty problem),
   the friction cone and the direction of friction, p_nu = p(v_nu) + lambda_nu,
   the discrete energy balance of every step recomputed from its terms, the contact
-  dissipation of the last step recomputed from contact.txt, the zone counts.
+  dissipation of the last step recomputed from contact.txt, the zone counts, the rows of
+  contact_nodes_history.txt against contact.txt and contact_history.txt, the von Mises
+  stress of fields.txt recomputed from the fields and the mesh.
 Options add: expected zone counts, the known answer of the column scene, and
 agreement with another output folder of the same discrete problem.
 
@@ -207,6 +209,58 @@ class Checker:
 
     ZONES = ("zone_free", "zone_damped_slip", "zone_damped_stick", "zone_bound_slip", "zone_bound_stick")
 
+    def check_series(self):
+        """contact_nodes_history.txt: one row per contact node at the steps -every gives (and the
+        last); at each, the zone counts of contact_history.txt; at the last, contact.txt exactly."""
+        path = os.path.join(self.folder, "contact_nodes_history.txt")
+        if not self.expect(os.path.isfile(path), "missing contact_nodes_history.txt"):
+            return
+        nh, c, steps = suite.read_table(path), self.c, len(self.h)
+        every = int(nh.params.real("every")) or max(1, -(-steps // 200))
+        recorded = sorted({n for n in range(1, steps + 1) if n % every == 0} | {steps})
+        if not self.expect(len(nh) == len(c) * len(recorded),
+                           f"contact_nodes_history.txt has {len(nh)} rows, expected {len(c)} nodes x {len(recorded)} steps"):
+            return
+        step = nh["step"].reshape(len(recorded), len(c))
+        self.expect((step == np.array(recorded)[:, None]).all(), "contact_nodes_history.txt: not the steps -every gives")
+        zone = nh["zone"].reshape(len(recorded), len(c)).astype(int)
+        for row, n in enumerate(recorded):
+            counts = [int((zone[row] == z).sum()) for z in range(5)]
+            logged = [int(self.ch[k][n - 1]) for k in self.ZONES]
+            if not self.expect(counts == logged, f"step {n}: contact_nodes_history.txt zones {counts}, contact_history.txt {logged}"):
+                break
+        last = slice(len(nh) - len(c), len(nh))
+        for name in ("x", "y", "v_nu", "v_tau", "p_nu", "lambda_nu", "lambda_tau", "normal_status", "tangential_status"):
+            self.expect((nh[name][last] == c[name]).all(), f"contact_nodes_history.txt at T: {name} differs from contact.txt")
+
+    def check_stress(self, rtol):
+        """fields.txt's von_mises, recomputed: sigma = A eps(v) + B eps(u) on each triangle (P1:
+        constant), its von Mises measure, averaged at each vertex with the triangles' areas."""
+        f, mesh = self.f, suite.read_msh22(os.path.join(self.folder, "mesh.msh"))
+        tri = mesh.triangles
+        x, y = f["x"][tri], f["y"][tri]
+        area2 = (x[:, 1] - x[:, 0]) * (y[:, 2] - y[:, 0]) - (x[:, 2] - x[:, 0]) * (y[:, 1] - y[:, 0])
+        gx = np.stack([y[:, 1] - y[:, 2], y[:, 2] - y[:, 0], y[:, 0] - y[:, 1]], 1) / area2[:, None]
+        gy = np.stack([x[:, 2] - x[:, 1], x[:, 0] - x[:, 2], x[:, 1] - x[:, 0]], 1) / area2[:, None]
+
+        def strain(ux, uy):
+            exx, eyy = (gx * ux[tri]).sum(1), (gy * uy[tri]).sum(1)
+            return exx, eyy, 0.5 * ((gy * ux[tri]).sum(1) + (gx * uy[tri]).sum(1))
+        E, nu, muv, eta = self.real("E"), self.real("nu"), self.real("muv"), self.real("eta")
+        ev, eu = strain(f["v_x"], f["v_y"]), strain(f["u_x"], f["u_y"])
+        lame = muv * (ev[0] + ev[1]) + E * nu / (1 - nu ** 2) * (eu[0] + eu[1])
+        sxx, syy, sxy = (lame + eta * ev[0] + E / (1 + nu) * eu[0], lame + eta * ev[1] + E / (1 + nu) * eu[1],
+                         eta * ev[2] + E / (1 + nu) * eu[2])
+        vm = np.sqrt(sxx ** 2 - sxx * syy + syy ** 2 + 3 * sxy ** 2)
+        weight, total = np.zeros(len(f)), np.zeros(len(f))
+        for k in range(3):
+            np.add.at(weight, tri[:, k], np.abs(area2))
+            np.add.at(total, tri[:, k], np.abs(area2) * vm)
+        mine = total / weight
+        worst = np.abs(mine - f["von_mises"]).max()
+        self.expect(worst <= rtol * max(np.abs(mine).max(), 1e-300),
+                    f"von_mises: fields.txt differs from its recomputation by {worst:.3e} (largest {np.abs(mine).max():.3e})")
+
     def check_zones(self, expected):
         want = [int(x) for x in expected.split(",")]
         got = [self.zones[k] for k in self.ZONES]
@@ -345,6 +399,8 @@ def main():
     if check.load():
         check.check_contact(args.rtol)
         check.check_energy(args.rtol)
+        check.check_series()
+        check.check_stress(args.rtol)
         if args.zones:
             check.check_zones(args.zones)
         if args.column:

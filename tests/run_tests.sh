@@ -791,6 +791,56 @@ mkdir -p "$work/corrupt/paper-original" "$work/corrupt/paper-penalty"; printf 'g
 [ "$(wc -l < "$work/message.log")" = 1 ] && ! grep -q Traceback "$work/message.log" || { echo "tables.py on a corrupt summary:" >> "$diag"; cat "$work/message.log" >> "$diag"; status=1; }
 report $status "messages: a byte order mark is read; Lx 0, Lx 1e10 (before gmsh), repeated keys, non-finite numbers, odd names, -E 1e300 named; --bless '' and corrupt inputs give one line" "$diag"
 
+# ---- see a run: -help, the VTK series read back by VTK itself, the Newton log, progress
+diag="$work/help.diag"; : > "$diag"; status=0
+for flag in -help -h --help; do
+  rc=0; solve -scene column "$flag" > "$work/help.txt" 2> "$work/help.err" || rc=$?
+  [ "$rc" = 0 ] && [ ! -s "$work/help.err" ] || { echo "$flag: exit $rc" >> "$diag"; cat "$work/help.err" >> "$diag"; status=1; }
+done
+# every option of edp/options.txt and of the README's table, with the scene's default
+for name in $(awk '!/^#/ && NF >= 5 && $1 != "when" { print $1 }' edp/options.txt) \
+            $(grep -o '^| `-[a-zA-Z]*`' README.md | tr -d '|` '); do
+  grep -q -- "^  -${name#-}  " "$work/help.txt" || { echo "-help does not list ${name}" >> "$diag"; status=1; }
+done
+grep -q -- '^  -nx  8  ' "$work/help.txt" || { echo "-help does not give the column scene's nx 8" >> "$diag"; status=1; }
+report $status "-help, -h, --help list every option (edp/options.txt, the README's table) with the scene's defaults, exit 0" "$diag"
+
+diag="$work/vtk.diag"; : > "$diag"; status=0
+for scene in column cylinder; do
+  rm -rf "$work/vtk-$scene"
+  solve -scene "$scene" -nx 8 -T 0.2 -dt 0.05 -vtk 3 -out "$work/vtk-$scene" >> "$diag" 2>&1 || status=1
+  "$PYTHON" tests/check_vtk.py "$work/vtk-$scene" >> "$diag" 2>&1 || status=1
+  "$PYTHON" tests/check_results.py "$work/vtk-$scene" >> "$diag" 2>&1 || status=1
+  ls "$work/vtk-$scene/vtk" | tr '\n' ' ' | grep -qx 'fields.pvd fields_000000.vtu fields_000003.vtu fields_000004.vtu ' \
+    || { echo "$scene: vtk/ holds $(ls "$work/vtk-$scene/vtk" | tr '\n' ' ')" >> "$diag"; status=1; }
+done
+# a run replaced by another: the earlier vtk/ goes with it; a file of the user's in vtk/ is not ours to replace
+solve -scene column -nx 8 -T 0.2 -dt 0.05 -out "$work/vtk-column" >> "$diag" 2>&1 || status=1
+[ ! -e "$work/vtk-column/vtk" ] || { echo "the earlier vtk/ was left in a replaced folder" >> "$diag"; status=1; }
+solve -scene column -nx 8 -T 0.2 -dt 0.05 -vtk 1 -out "$work/vtk-column" >> "$diag" 2>&1 || status=1
+touch "$work/vtk-column/vtk/mine.txt"
+rc=0; solve -scene column -nx 8 -T 0.2 -dt 0.05 -out "$work/vtk-column" >> "$diag" 2>&1 || rc=$?
+[ "$rc" = 7 ] && [ -e "$work/vtk-column/vtk/mine.txt" ] || { echo "a file of the user's in vtk/: exit $rc" >> "$diag"; status=1; }
+report $status "-vtk N: fields.pvd and .vtu frames read back by VTK equal fields.txt and the zones; replaced with their run, a user's file kept" "$diag"
+
+diag="$work/log.diag"; : > "$diag"; status=0
+rm -rf "$work/log"
+solve -scene column -nx 8 -T 0.2 -dt 0.05 -verbose -out "$work/log" > /dev/null 2> "$work/log.err" || status=1
+[ "$(grep -c '^step [0-9]*/4 (t = ' "$work/log.err")" = 4 ] && grep -q '^  iteration 1: residual .*; changed: .*bound +9' "$work/log.err" \
+  || { echo "-verbose:" >> "$diag"; cat "$work/log.err" >> "$diag"; status=1; }
+# a run of more than 2 s shows its progress about once a second, on stderr; -quiet none
+rm -rf "$work/log"
+solve -nx 132 -ny 66 -T 0.6 -dt 0.001 -out "$work/log" > "$work/log.out" 2> "$work/log.err" || status=1
+grep -q '^step [0-9]*/600 (t = .*), [0-9]* iterations; zones: ' "$work/log.err" && ! grep -q '^step' "$work/log.out" \
+  || { echo "no progress line in a run whose loop took $(awk '$1 == "time_loop" { print $2 }' "$work/log/summary.txt") s" >> "$diag"; status=1; }
+rm -rf "$work/log"
+solve -nx 132 -ny 66 -T 0.6 -dt 0.001 -quiet -out "$work/log" > /dev/null 2> "$work/log.err" || status=1
+[ ! -s "$work/log.err" ] || { echo "-quiet printed:" >> "$diag"; head -3 "$work/log.err" >> "$diag"; status=1; }
+report $status "-verbose logs each Newton iteration and step; a long run shows progress on stderr, -quiet silences it" "$diag"
+grep -v '^#' edp/scenes/column.scene > "$work/quiet.scene"; echo "quiet on" >> "$work/quiet.scene"
+expect_failure "a flag given a value in a scene" 3 "cannot read 'quiet on'" -scene "$work/quiet.scene"
+expect_failure "-every below 0" 2 "option -every = -1 is out of range" -every -1
+
 # ---- reproducibility: the same options give byte-identical outputs (timings aside)
 diag="$work/repro.diag"; : > "$diag"; status=0
 rm -rf "$work/repro" "$work/repro.first"

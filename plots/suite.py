@@ -424,6 +424,100 @@ def solver_failure(message):
         return None
 
 
+# ---------------------------------------------------------------- zones on Gamma3
+Zone = collections.namedtuple("Zone", "code column name color")
+Zone.__doc__ = """A zone of docs/design.md, "Statuses and zones": its code (the column `zone` of
+contact_nodes_history.txt, `contact_zone` of the VTK files), its column of summary.txt and
+contact_history.txt, its name and its colour in every figure."""
+ZONES = (Zone(0, "zone_free", "free", "0.6"),
+         Zone(1, "zone_damped_slip", "damped, slip", "tab:green"),
+         Zone(2, "zone_damped_stick", "damped, stick", "tab:olive"),
+         Zone(3, "zone_bound_slip", "at the bound, slip", "tab:orange"),
+         Zone(4, "zone_bound_stick", "at the bound, stick", "tab:purple"))
+
+
+def zone_codes(normal_status, tangential_status):
+    """The zone code of each contact node from its statuses: 0 free (normal status 0), else
+    2 normal - tangential: 1 damped slip, 2 damped stick, 3 bound slip, 4 bound stick."""
+    normal = np.asarray(normal_status).astype(int)
+    return np.where(normal == 0, 0, 2 * normal - np.asarray(tangential_status).astype(int))
+
+
+def stretches(position, keys):
+    """The stretches of Gamma3 over which consecutive nodes (in the order of position) have
+    the same key: [(key, start, end, nodes)], wherever they lie, a key perhaps in several
+    stretches. A node holds Gamma3 up to halfway to its neighbours; the first and the last
+    node end the first and the last stretch."""
+    order = np.argsort(position, kind="stable")
+    s, k = np.asarray(position, dtype=float)[order], [keys[i] for i in order]
+    cuts = np.r_[s[0], 0.5 * (s[1:] + s[:-1]), s[-1]]
+    found, first = [], 0
+    for i in range(1, len(s) + 1):
+        if i == len(s) or k[i] != k[first]:
+            found.append((k[first], cuts[first], cuts[i], i - first))
+            first = i
+    return found
+
+
+def shade_stretches(ax, found, colors, alpha=0.15):
+    """Shade each stretch (of stretches()) whose key has a colour in colors."""
+    for key, start, end, _ in found:
+        if key in colors:
+            ax.axvspan(start, end, color=colors[key], alpha=alpha, linewidth=0)
+
+
+def label_stretches(ax, found, texts, heights, fontsize=8):
+    """Write texts[key] once per key, centred over the widest of its stretches, at the first
+    of the heights (fractions of the axes' height) where it overlaps no label written before
+    (at the last height when none is free). Call it once the layout and the x limits of ax
+    are final."""
+    widest = {}
+    for key, start, end, _ in found:
+        if key in texts and (key not in widest or end - start > widest[key][1] - widest[key][0]):
+            widest[key] = (start, end)
+    renderer = ax.figure.canvas.get_renderer()
+    boxes = []
+    for key, (start, end) in sorted(widest.items(), key=lambda item: item[1]):
+        for y in heights:
+            label = ax.text(0.5 * (start + end), y, texts[key], ha="center", fontsize=fontsize,
+                            transform=ax.get_xaxis_transform())
+            box = label.get_window_extent(renderer).padded(1)
+            if y == heights[-1] or not any(box.overlaps(other) for other in boxes):
+                break
+            label.remove()
+        boxes.append(box)
+
+
+def nodes(count):
+    """'1 node', '2 nodes', ..."""
+    return f"{count} node" if count == 1 else f"{count} nodes"
+
+
+def zone_patches(codes=None):
+    """Legend handles of the zones (of the codes given, else of all five)."""
+    from matplotlib.patches import Patch
+    return [Patch(color=zone.color, label=zone.name) for zone in ZONES if codes is None or zone.code in codes]
+
+
+def zone_counts_plot(ax, h):
+    """The nodes of each zone against t, from a contact_history.txt."""
+    for zone in ZONES:
+        ax.plot(h["t"], h[zone.column], color=zone.color, label=zone.name)
+    ax.set_xlabel("t [s]")
+    ax.set_ylabel("nodes")
+    ax.set_title("nodes per zone on $\\Gamma_3$")
+    ax.legend(fontsize=7)
+
+
+# The energy terms of history.txt (docs/design.md, "Energy identity"): column, label, and
+# whether a figure shows it summed over the steps (the dissipations and the work of a step).
+ENERGY_TERMS = (("kinetic", "kinetic", False), ("elastic", "elastic", False),
+                ("numerical_dissipation", "numerical dissipation (cumulative)", True),
+                ("viscous_dissipation", "viscous dissipation (cumulative)", True),
+                ("contact_dissipation", "contact dissipation (cumulative)", True),
+                ("external_work", "external work (cumulative)", True))
+
+
 # ---------------------------------------------------------------- figures
 STYLE = {
     "figure.figsize": (11, 4),

@@ -21,13 +21,6 @@ plt = suite.pyplot()
 PROBLEMS = ("original", "penalty")
 
 
-def problem_label(params):
-    """'original problem' or 'penalty problem, eps = ...' from a file's parameter lines."""
-    if params.get("problem") == "penalty":
-        return f"penalty problem, $\\varepsilon$ = {params['eps']}"
-    return f"{params.get('problem', '?')} problem"
-
-
 def fig2_deformed(results, out):
     """Fig. 2: deformed configuration at T, true scale, with the contact line y = 0."""
     fig, axes = plt.subplots(1, 2, sharey=True)
@@ -40,7 +33,7 @@ def fig2_deformed(results, out):
         ax.triplot(tri, color="0.3", linewidth=0.3)
         ax.axhline(0.0, color="tab:red", linewidth=1.0, label="undeformed contact line y = 0")
         ax.set_aspect("equal")
-        ax.set_title(f"{problem_label(p)}: deformed mesh at T (true scale)")
+        ax.set_title(f"{suite.problem_label(p)}: deformed mesh at T (true scale)")
         ax.set_xlabel("x [m]")
         ax.legend(loc="upper right")
     axes[0].set_ylabel("y [m]")
@@ -59,7 +52,7 @@ def fig3_contact_reactions(results, out):
         ax.plot(c["x"], c["lambda_tau"], "s-", label=r"tangential stress $\lambda_\tau$")
         ax.plot(c["x"], c["friction_bound"], "k-", linewidth=0.8, label=r"friction bound $\mu p(v_\nu)$")
         ax.plot(c["x"], -c["friction_bound"], "k-", linewidth=0.8)
-        ax.set_title(f"{problem_label(p)}: contact stresses on $\\Gamma_3$ at T = {p['T']}")
+        ax.set_title(f"{suite.problem_label(p)}: contact stresses on $\\Gamma_3$ at T = {p['T']}")
         ax.set_xlabel("x [m]")
         ax.legend(loc="center right", fontsize=8)   # the band between p(g) and lambda_nu on CD is empty
     axes[0].set_ylabel("stress [GPa]")
@@ -94,7 +87,7 @@ def fig4_velocities(results, out):
         found = suite.stretches(c["x"], zones)
         suite.shade_stretches(ax, found, PAPER_COLORS, alpha=0.12)
         labels.append((ax, found, {name: f"{name}: {suite.nodes(zones.count(name))}" for name in PAPER_COLORS}, g))
-        ax.set_title(f"{problem_label(p)}: velocities on $\\Gamma_3$ at T = {p['T']}")
+        ax.set_title(f"{suite.problem_label(p)}: velocities on $\\Gamma_3$ at T = {p['T']}")
         ax.set_xlabel("x [m]")
         ax.legend(loc="center right")          # CD: v_nu = g, v_tau = 0 leave this corner empty
     axes[0].set_ylabel("velocity [m/s]")
@@ -191,8 +184,8 @@ def contact_forces_history(results, out):
     for problem, style in zip(PROBLEMS, ("-", "--")):
         h = suite.read_table(os.path.join(results, f"paper-{problem}", "contact_history.txt"))
         p = h.params
-        left.plot(h["t"], h["normal_force"], style, label=problem_label(p))
-        right.plot(h["t"], h["tangential_force"], style, label=problem_label(p))
+        left.plot(h["t"], h["normal_force"], style, label=suite.problem_label(p))
+        right.plot(h["t"], h["tangential_force"], style, label=suite.problem_label(p))
     folder = os.path.join(results, "paper-original")
     h = suite.read_table(os.path.join(folder, "contact_history.txt"))
     applied = applied_normal_load(folder, h.params, h["t"])
@@ -211,19 +204,14 @@ def energy_history(results, out):
     """Discrete energy balance (docs/design.md, "Energy identity"): the energies and the cumulative
     dissipations and work against t (left, log scale), the per-step residual (right)."""
     fig, (left, right) = plt.subplots(1, 2)
-    colors = plt.rcParams["axes.prop_cycle"].by_key()["color"]
     for problem, style in zip(PROBLEMS, ("-", "--")):
         h = suite.read_table(os.path.join(results, f"paper-{problem}", "history.txt"))
-        for (column, label, cumulative), color in zip(suite.ENERGY_TERMS, colors):
-            values = np.cumsum(h[column]) if cumulative else h[column]
-            left.semilogy(h["t"], values, style, color=color, label=label if problem == "original" else None)
+        suite.energy_terms_plot(left, h, style, labelled=problem == "original")
         residual = np.where(h["energy_residual"] > 0, h["energy_residual"], np.nan)   # log scale: 0 is not drawn
-        right.semilogy(h["t"], residual, style, marker="o", markersize=2, label=problem_label(h.params))
+        right.semilogy(h["t"], residual, style, marker="o", markersize=2, label=suite.problem_label(h.params))
     left.plot([], [], "k-", label="original problem")
     left.plot([], [], "k--", label="penalty problem")
     left.set_title("energies at $t_n$ and cumulative dissipations and work")
-    left.set_xlabel("t [s]")
-    left.set_ylabel("energy per unit thickness [GJ/m]")
     left.legend(fontsize=7, loc="lower right")
     right.set_title("energy balance residual of each step (relative to its largest term)")
     right.set_xlabel("t [s]")
@@ -238,7 +226,7 @@ def zone_boundaries(results, out):
     fig, (left, right) = plt.subplots(1, 2)
     for problem, style in zip(PROBLEMS, ({"linestyle": "-"}, {"linestyle": "none", "marker": "o", "markersize": 2.5})):
         h = suite.read_table(os.path.join(results, f"paper-{problem}", "contact_history.txt"))
-        name = problem_label(h.params)
+        name = suite.problem_label(h.params)
         left.plot(h["t"], h["x_B"], color="tab:orange", label=f"$x_B$, {name}", **style)
         left.plot(h["t"], h["x_C"], color="tab:purple", label=f"$x_C$, {name}", **style)
         counts = {"AB (damped, slip)": h["zone_damped_slip"], "BC (at the bound, slip)": h["zone_bound_slip"],

@@ -166,6 +166,24 @@ def read_summary(path):
     return summary
 
 
+def run_folder(folder):
+    """The folder, if it is the folder of a finished run (it holds summary.txt and
+    run.complete, docs/design.md "Output files"); otherwise InputError."""
+    if not os.path.isdir(folder):
+        raise InputError(f"{folder}: no such folder")
+    missing = [name for name in ("summary.txt", "run.complete") if not os.path.isfile(os.path.join(folder, name))]
+    if missing:
+        raise InputError(f"{folder} is not the folder of a finished run (no {' and no '.join(missing)})")
+    return folder
+
+
+def problem_label(params):
+    """'original problem' or 'penalty problem, eps = ...' from a file's parameter lines."""
+    if params.get("problem") == "penalty":
+        return f"penalty problem, $\\varepsilon$ = {params['eps']}"
+    return f"{params.get('problem', '?')} problem"
+
+
 def write_table(path, comments, columns, rows):
     """A table in the format of the solver's outputs: a '# ' line per comment, the '#' line
     naming the columns, then the rows; floats written with repr (full precision, the same
@@ -244,6 +262,57 @@ def _labels():
 def labels():
     """The boundary labels named in edp/lib/forms.idp, e.g. {"GammaContact": 1, ...}."""
     return dict(_labels())
+
+
+def nearest(points, targets):
+    """For each target (x, y), the row of the nearest of points (n, 2)."""
+    points = np.asarray(points, dtype=float)
+    return np.array([int(np.argmin(np.hypot(*(points - target).T))) for target in np.asarray(targets, dtype=float)],
+                    dtype=int)
+
+
+def boundary_edges(triangles):
+    """The edges (pairs of nodes) that belong to one triangle only: the boundary of the body."""
+    edges = np.sort(np.concatenate([triangles[:, [0, 1]], triangles[:, [1, 2]], triangles[:, [2, 0]]]), axis=1)
+    unique, counts = np.unique(edges, axis=0, return_counts=True)
+    return unique[counts == 1]
+
+
+def boundary_arc_length(mesh, label):
+    """The arc length along the boundary lines of `label`: {row of mesh.xy: s}. The walk
+    starts at the end of smallest (x, y); where the boundary is in pieces, each next piece
+    starts from its own end of smallest (x, y), s going on across the straight gap."""
+    neighbours = collections.defaultdict(list)
+    for a, b in mesh.lines[mesh.line_labels == label]:
+        neighbours[a].append(b)
+        neighbours[b].append(a)
+    s, last, length = {}, None, 0.0
+    while len(s) < len(neighbours):
+        left = [node for node in neighbours if node not in s]
+        ends = [node for node in left if len(neighbours[node]) == 1] or left     # a closed loop has no end
+        node = min(ends, key=lambda n: tuple(mesh.xy[n]))
+        while node is not None:                             # along the piece, to its other end
+            if last is not None:
+                length += float(np.hypot(*(mesh.xy[node] - mesh.xy[last])))
+            s[node], last = length, node
+            node = next((n for n in neighbours[node] if n not in s), None)
+    return s
+
+
+def contact_position(mesh, x, y):
+    """Where the contact nodes (x, y) lie along Gamma3, and the axis label: x itself when
+    Gamma3 is straight along x (every y the same), otherwise the arc length along the mesh's
+    contact boundary (boundary_arc_length), each node taken as the nearest node of it."""
+    x, y = np.asarray(x, dtype=float), np.asarray(y, dtype=float)
+    if np.ptp(y) <= 1e-9 * max(np.ptp(x), 1e-300):
+        return x, "x [m]"
+    s = boundary_arc_length(mesh, labels()["GammaContact"])
+    if not s:
+        raise InputError("the mesh has no contact boundary (physical curve 1)")
+    nodes = np.array(sorted(s))
+    start = mesh.xy[min(s, key=s.get)]
+    return (np.array([s[n] for n in nodes[nearest(mesh.xy[nodes], np.c_[x, y])]]),
+            f"arc length along $\\Gamma_3$ from ({start[0]:.3g}, {start[1]:.3g}) [m]")
 
 
 # ---------------------------------------------------------------- options and scenes
@@ -443,17 +512,23 @@ def zone_codes(normal_status, tangential_status):
     return np.where(normal == 0, 0, 2 * normal - np.asarray(tangential_status).astype(int))
 
 
+def halfway_edges(s):
+    """The edges of the cells of sorted positions s: halfway between neighbours, and the
+    first and the last position."""
+    return np.r_[s[0], 0.5 * (s[1:] + s[:-1]), s[-1]]
+
+
 def stretches(position, keys):
     """The stretches of Gamma3 over which consecutive nodes (in the order of position) have
     the same key: [(key, start, end, nodes)], wherever they lie, a key perhaps in several
     stretches. A node holds Gamma3 up to halfway to its neighbours; the first and the last
     node end the first and the last stretch."""
     order = np.argsort(position, kind="stable")
-    s, k = np.asarray(position, dtype=float)[order], [keys[i] for i in order]
-    cuts = np.r_[s[0], 0.5 * (s[1:] + s[:-1]), s[-1]]
+    k = [keys[i] for i in order]
+    cuts = halfway_edges(np.asarray(position, dtype=float)[order])
     found, first = [], 0
-    for i in range(1, len(s) + 1):
-        if i == len(s) or k[i] != k[first]:
+    for i in range(1, len(k) + 1):
+        if i == len(k) or k[i] != k[first]:
             found.append((k[first], cuts[first], cuts[i], i - first))
             first = i
     return found
@@ -493,10 +568,15 @@ def nodes(count):
     return f"{count} node" if count == 1 else f"{count} nodes"
 
 
-def zone_patches(codes=None):
-    """Legend handles of the zones (of the codes given, else of all five)."""
+def zone_patches(codes=None, alpha=1.0):
+    """Legend handles of the zones: all five, or those of the given zone codes of nodes,
+    with their node counts."""
     from matplotlib.patches import Patch
-    return [Patch(color=zone.color, label=zone.name) for zone in ZONES if codes is None or zone.code in codes]
+    if codes is None:
+        return [Patch(color=zone.color, alpha=alpha, label=zone.name) for zone in ZONES]
+    counts = {zone: int(np.sum(np.asarray(codes) == zone.code)) for zone in ZONES}
+    return [Patch(color=zone.color, alpha=alpha, label=f"{zone.name}: {nodes(count)}")
+            for zone, count in counts.items() if count]
 
 
 def zone_counts_plot(ax, h):
@@ -516,6 +596,29 @@ ENERGY_TERMS = (("kinetic", "kinetic", False), ("elastic", "elastic", False),
                 ("viscous_dissipation", "viscous dissipation (cumulative)", True),
                 ("contact_dissipation", "contact dissipation (cumulative)", True),
                 ("external_work", "external work (cumulative)", True))
+
+
+def energy_terms_plot(ax, h, style="-", labelled=True):
+    """The energy terms of a history.txt against t, on a log scale (0 is not drawn), one
+    colour per term, labelled or not."""
+    import matplotlib
+    colors = matplotlib.rcParams["axes.prop_cycle"].by_key()["color"]
+    for (column, label, cumulative), color in zip(ENERGY_TERMS, colors):
+        values = np.cumsum(h[column]) if cumulative else h[column]
+        ax.semilogy(h["t"], values, style, color=color, label=label if labelled else None)
+    ax.set_xlabel("t [s]")
+    ax.set_ylabel("energy per unit thickness [GJ/m]")
+
+
+def magnification(size, largest):
+    """The factor (1, 2 or 5 times a power of 10) that shows displacements of at most
+    `largest` on a body of extent `size` at about a tenth of it; 1 when they show already
+    (a fiftieth of it or more) or are 0."""
+    if largest <= 0 or largest >= 0.02 * size:
+        return 1.0
+    wanted = 0.1 * size / largest
+    decade = 10.0 ** np.floor(np.log10(wanted))
+    return float(max(step * decade for step in (1, 2, 5) if step * decade <= wanted))
 
 
 # ---------------------------------------------------------------- figures

@@ -315,6 +315,74 @@ def contact_position(mesh, x, y):
             f"arc length along $\\Gamma_3$ from ({start[0]:.3g}, {start[1]:.3g}) [m]")
 
 
+def read_xml(path):
+    """The root element of an XML file."""
+    import xml.etree.ElementTree as ElementTree
+    try:
+        return ElementTree.parse(path).getroot()
+    except ElementTree.ParseError as error:
+        raise InputError(f"{path}: not an XML file ({error})") from None
+    except FileNotFoundError:
+        raise InputError(f"missing {path}") from None
+
+
+def vtk_array(path, element, where):
+    """The numbers of a DataArray element of the VTK file path (named `where` in messages):
+    (n,) for one component, (n, k) for k."""
+    if element is None:
+        raise InputError(f"{path}: no {where}")
+    if element.get("format", "ascii") != "ascii":
+        raise InputError(f"{path}: {where} is not ascii")
+    try:
+        values = np.array((element.text or "").split(), dtype=float)
+        components = int(element.get("NumberOfComponents", "1"))
+    except ValueError:
+        raise InputError(f"{path}: unreadable numbers in {where}") from None
+    if components < 1 or values.size % components:
+        raise InputError(f"{path}: {where} has {values.size} values for {components} components")
+    return values.reshape(-1, components) if components > 1 else values
+
+
+Vtu = collections.namedtuple("Vtu", "xy triangles point_data")
+
+
+def read_vtu(path):
+    """One ASCII VTK XML UnstructuredGrid of triangles, as edp/solve.edp -vtk writes it:
+    Vtu(xy (points, 2), triangles (cells, 3), point_data {name: (points,) or (points, k)})."""
+    piece = read_xml(path).find("UnstructuredGrid/Piece")
+    if piece is None:
+        raise InputError(f"{path}: not a VTK UnstructuredGrid file (no UnstructuredGrid/Piece)")
+    xy = vtk_array(path, piece.find("Points/DataArray"), "Points")
+    if xy.ndim != 2 or xy.shape[1] < 2:
+        raise InputError(f"{path}: the Points need 2 or 3 components")
+    cells = {name: vtk_array(path, piece.find(f"Cells/DataArray[@Name='{name}']"), f"Cells {name}").astype(int)
+             for name in ("connectivity", "offsets", "types")}
+    if (cells["types"] != 5).any() or not np.array_equal(cells["offsets"], 3 * np.arange(1, cells["types"].size + 1)):
+        raise InputError(f"{path}: the cells are not all triangles (VTK type 5)")
+    triangles = cells["connectivity"].reshape(-1, 3)
+    if triangles.size and (triangles.min() < 0 or triangles.max() >= len(xy)):
+        raise InputError(f"{path}: a cell names a point that does not exist")
+    data = {element.get("Name"): vtk_array(path, element, f"PointData {element.get('Name')}")
+            for element in piece.findall("PointData/DataArray")}
+    for name, values in data.items():
+        if len(values) != len(xy):
+            raise InputError(f"{path}: PointData {name} has {len(values)} rows for {len(xy)} points")
+    return Vtu(xy[:, :2], triangles, data)
+
+
+def read_pvd(path):
+    """The time series of a ParaView collection file: [(t, path of its .vtu file)], in the
+    file's order."""
+    sets = read_xml(path).findall("Collection/DataSet")
+    try:
+        series = [(float(item.get("timestep")), os.path.join(os.path.dirname(path), item.get("file"))) for item in sets]
+    except (TypeError, ValueError):
+        raise InputError(f"{path}: a DataSet without a numeric timestep and a file") from None
+    if not series:
+        raise InputError(f"{path}: no DataSet in its Collection")
+    return series
+
+
 # ---------------------------------------------------------------- options and scenes
 Option = collections.namedtuple("Option", "name type range default meaning")
 Option.__doc__ = "One option of edp/options.txt; default None where the scene gives it ('-')."

@@ -489,14 +489,16 @@ scene_agreement cylinder-coarse -scene cylinder -nx 12 -dt 0.05
 # and the timings)
 diag="$work/repeat.diag"; : > "$diag"; status=0
 rm -rf "$work/repeat" "$work/repeat2"
-solve -scene bound-profile -nx 33 -ny 16 -dt 0.05 -load 20 -mu 0.3 -g 0.06 -out "$work/repeat" >> "$diag" 2>&1 || status=1
+solve -scene bound-profile -nx 33 -ny 16 -dt 0.05 -load 20 -mu 0.3 -r 0.5 -out "$work/repeat" >> "$diag" 2>&1 || status=1
 solve -scene "$work/repeat/scene.scene" -mesh "$work/repeat/mesh.msh" -out "$work/repeat2" >> "$diag" 2>&1 || status=1
 own_files() { grep -v -E '^(# )?(scene|out|mesh|mesh_source|scene_file|nx|ny|time_[a-z_]*) ' "$1"; }
 for f in "${OUTPUT_FILES[@]}"; do
   cmp -s <(own_files "$work/repeat/$f") <(own_files "$work/repeat2/$f") || { echo "$f differs" >> "$diag"; status=1; }
 done
-grep -q '^load 20$' "$work/repeat/scene.scene" && grep -q '^bound_profile ' "$work/repeat/scene.scene" \
+grep -q '^load 20$' "$work/repeat/scene.scene" && grep -q '^r 0.5$' "$work/repeat/scene.scene" && grep -q '^bound_profile ' "$work/repeat/scene.scene" \
   || { echo "scene.scene lacks the override or the profile" >> "$diag"; status=1; }
+# options left at the table's default are not pinned (the fixed point's r follows -solver), nor is g beside a profile
+! grep -q -E '^(tol|maxit|solver|g) ' "$work/repeat/scene.scene" || { echo "scene.scene pins a table default or g" >> "$diag"; status=1; }
 report $status "a run repeats itself from its OUT/scene.scene and OUT/mesh.msh, command-line overrides included" "$diag"
 
 # the mesh cache follows the .geo's contents: a copy of the suite with a finer quarterdisk.geo
@@ -507,7 +509,16 @@ sed -i 's|^h = R/nx;|h = R/nx/2;|' "$copy/meshes/quarterdisk.geo"
 (cd "$copy" && "${FREEFEM[@]}" edp/solve.edp -scene cylinder -nx 8 -dt 0.5 -T 0.5 -out after) >> "$diag" 2>&1 || status=1
 a=$(awk '$1 == "vertices" { print $2 }' "$copy/before/summary.txt" 2>/dev/null); b=$(awk '$1 == "vertices" { print $2 }' "$copy/after/summary.txt" 2>/dev/null)
 [ -n "$a" ] && [ -n "$b" ] && [ "$b" -gt $((3 * a)) ] || { echo "vertices before $a, after halving h $b" >> "$diag"; status=1; }
-report $status "the mesh cache follows the .geo's contents: halving h in quarterdisk.geo gives a new mesh" "$diag"
+# a .geo that includes another: not cached (its checksum does not cover the included file)
+cp "$copy/meshes/quarterdisk.geo" "$copy/meshes/body.geo"
+printf 'Include "body.geo";\n' > "$copy/meshes/outer.geo"
+sed 's|^geometry .*|geometry outer|' edp/scenes/cylinder.scene > "$copy/outer.scene"
+(cd "$copy" && "${FREEFEM[@]}" edp/solve.edp -scene outer.scene -nx 8 -dt 0.5 -T 0.5 -out inc1) >> "$diag" 2>&1 || status=1
+sed -i 's|^h = R/nx/2;|h = R/nx;|' "$copy/meshes/body.geo"
+(cd "$copy" && "${FREEFEM[@]}" edp/solve.edp -scene outer.scene -nx 8 -dt 0.5 -T 0.5 -out inc2) >> "$diag" 2>&1 || status=1
+c=$(awk '$1 == "vertices" { print $2 }' "$copy/inc1/summary.txt" 2>/dev/null); d=$(awk '$1 == "vertices" { print $2 }' "$copy/inc2/summary.txt" 2>/dev/null)
+[ -n "$c" ] && [ "$c" = "$b" ] && [ "$d" = "$a" ] || { echo "included .geo: vertices $c (expected $b), after editing the included file $d (expected $a)" >> "$diag"; status=1; }
+report $status "the mesh cache follows the .geo's contents: halving h in quarterdisk.geo gives a new mesh, an included .geo too" "$diag"
 
 # an oblique contact boundary: the paper's block turned by 30 degrees (tests/data/tilted.geo,
 # clamped on its left side, the traction turned with it) gives the same contact values
@@ -527,6 +538,18 @@ report $status "an oblique contact boundary: the block turned by 30 degrees has 
 gmsh -2 -format msh22 -v 0 tests/data/spike.geo -o "$work/spike.msh" > /dev/null 2>&1
 grep -v -E '^(dirichlet|contact_normal) ' edp/scenes/paper.scene > "$work/spike.scene"
 expect_failure "a contact boundary that turns by 150 degrees" 3 "turns by more than 120 degrees at \(1, 0\)" -scene "$work/spike.scene" -mesh "$work/spike.msh"
+# a bad step is caught at the step, not only at T: g = 1e-12 at one end breaks the
+# complementarity in steps 1-2, then the load turns and every node is free at T
+grep -v -E '^(g|load_history|T|dt) ' edp/scenes/column.scene > "$work/midrun.scene"
+printf 'bound_profile 0 1e-12 1 0.05\nload_history 0 0 0.1 0.1 0.2 -1\nT 0.2\ndt 0.05\n' >> "$work/midrun.scene"
+expect_failure "a check that fails before T" 9 "end-of-run check failed: complementarity .* at step [12];" -scene "$work/midrun.scene"
+grep -v -E '^g ' edp/scenes/column.scene > "$work/gprofile.scene"; printf 'bound_profile 0 0.02 1 0.05\n' >> "$work/gprofile.scene"
+expect_failure "-g with a bound_profile" 2 "option -g gives one bound for all of Gamma3, but .*gprofile.scene:[0-9]+ gives a bound_profile" -scene "$work/gprofile.scene" -g 0.2
+printf 'g 0.05\n' >> "$work/gprofile.scene"
+expect_failure "g and bound_profile in one scene" 3 "gprofile.scene:[0-9]+: g gives one bound for all of Gamma3, but the bound_profile of line [0-9]+" -scene "$work/gprofile.scene"
+# the same turn at a node whose two edges differ in length 17 times (the lumped normal alone would not see it)
+gmsh -2 -format msh22 -v 0 -setnumber turn 150 -setnumber nr 20 -setnumber pr 1.15 tests/data/vee.geo -o "$work/vee.msh" > /dev/null 2>&1
+expect_failure "a 150-degree turn between edges of unequal length" 3 "turns by more than 120 degrees at \(0, 0\)" -scene "$work/spike.scene" -mesh "$work/vee.msh" -T 0.1 -dt 0.05
 gmsh -2 -format msh22 -v 0 -setnumber nx 10 tests/data/halfdisk.geo -o "$work/halfdisk.msh" > /dev/null 2>&1
 grep -v -E '^(dirichlet|contact_normal|geometry) ' edp/scenes/cylinder.scene > "$work/halfdisk.scene"; echo "dirichlet 3 x" >> "$work/halfdisk.scene"
 expect_failure "a contact node whose free component is not a normal velocity" 3 "has its x velocity fixed by a dirichlet line, and its normal .* is more than 60 degrees from the free y axis" -scene "$work/halfdisk.scene" -mesh "$work/halfdisk.msh"

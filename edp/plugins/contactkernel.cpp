@@ -55,6 +55,7 @@
 //       residual at (c, m); target = the stresses the pieces give
 //   contactLawRelations(real[int] c, real[int] a, real[int] d, real[int] h, int[int] slot)
 //   contactLawMerit()   the 2-norm of the weighted residual of the last evaluation
+//   contactNewtonLog(int it, real residual)   -verbose: the log line of iteration it
 //   contactNewtonGuard(int it)   the cycle guard (halves r on a repeat); returns 1 if it did
 //   contactNewtonAccept(real merit, real step, int cut)   the line search's test; 1 = accept
 //   contactNewtonEnd()   restores r after a step
@@ -112,6 +113,7 @@ struct SolverParameters {
   double tol = 1e-10, r = 1, dt = 0;
   int maxit = 50;
   bool safeguards = true;
+  bool verbose = false;                        // -verbose: the Newton log (logIteration)
 };
 SolverParameters SP;
 
@@ -132,6 +134,7 @@ long parameter(string *const &name, const double &value) {
     else if (key == "safeguard") SP.safeguards = value != 0;
     else if (key == "r") SP.r = value;
     else if (key == "dt") SP.dt = value;
+    else if (key == "verbose") SP.verbose = value != 0;
     else ExecError("contactKernelParameter: unknown parameter '" + key + "'");
   }
   if (law) N.ready = false;
@@ -180,8 +183,10 @@ long nodes(KN<double> *const &px, KN<double> *const &pw, KN<double> *const &pg, 
     if (checkLaw(L.P, g[i], why)) {
       // FreeFEM points std::cerr at the standard output: write to stderr itself
       std::fflush(nullptr);
-      std::fprintf(stderr, "error: the law of edp/plugins/contactlaw.hpp cannot be used: %s (c_nu = %g, mu = %g, g = %g)\n",
-                   why.c_str(), L.P.cnu, L.P.mu, g[i]);
+      static const char *family[] = {"", "; p is the scene's damping power: check that line",
+                                     "; p is the scene's damping table: check that line"};
+      std::fprintf(stderr, "error: the law of edp/plugins/contactlaw.hpp cannot be used: %s (c_nu = %g, mu = %g, g = %g)%s\n",
+                   why.c_str(), L.P.cnu, L.P.mu, g[i], family[L.P.damping >= 1 && L.P.damping <= 2 ? L.P.damping : 0]);
       std::fflush(stderr);
       return 1;
     }
@@ -868,6 +873,35 @@ void endStep() {
   if (!Q.rDefault.empty() && Q.rDefault != L.r) for (int j = 0; j < L.n; j++) L.setAugmentation(j, Q.rDefault[j]);
 }
 
+// -verbose: one line an iteration on the standard error, the residual and how many slots entered
+// (+) or left (-) each piece of the law since the line before; iteration 0 gives the count of
+// each piece at the start of the step. Every solver calls it (the script ones through
+// contactNewtonLog), after the law's evaluate() of the iterate.
+std::vector<int> loggedPieces;
+void logIteration(int it, double residual) {
+  if (!SP.verbose) return;
+  static const char *pieceName[] = {"free", "damped", "bound", "stick", "slip"};
+  int entered[5] = {0, 0, 0, 0, 0}, left[5] = {0, 0, 0, 0, 0};
+  const bool first = it == 0 || loggedPieces.size() != L.piece.size();
+  for (size_t j = 0; j < L.piece.size(); j++) {
+    if (first) entered[L.piece[j]]++;
+    else if (L.piece[j] != loggedPieces[j]) { entered[L.piece[j]]++; left[loggedPieces[j]]++; }
+  }
+  loggedPieces = L.piece;
+  std::string line = "  iteration " + std::to_string(it);
+  char number[32];
+  std::snprintf(number, sizeof number, "%.3e", residual);
+  line += std::string(first ? " (from the previous step's solution)" : "") + ": residual " + number + (first ? "; slots:" : "; changed:");
+  int shown = 0;
+  for (int k = 0; k < 5; k++) {
+    if (first && entered[k]) line += std::string(shown++ ? ", " : " ") + pieceName[k] + " " + std::to_string(entered[k]);
+    if (!first && entered[k]) line += std::string(shown++ ? ", " : " ") + pieceName[k] + " +" + std::to_string(entered[k]);
+    if (!first && left[k]) line += std::string(shown++ ? ", " : " ") + pieceName[k] + " -" + std::to_string(left[k]);
+  }
+  if (!shown) line += " none";
+  std::fprintf(stderr, "%s\n", line.c_str());
+}
+
 void requireSolver(const char *who) {
   requireNodes(who);
   requireDelassus(who);
@@ -886,6 +920,7 @@ long newton(KN<double> *const &pcFree, KN<double> *const &pc, KN<double> *const 
   double merit = L.merit();
   double residual = L.evaluate(c.data(), m.data());
   int it = 0;
+  logIteration(it, residual);
   while (true) {
     L.relations(c.data());
     guard(it);
@@ -904,6 +939,7 @@ long newton(KN<double> *const &pcFree, KN<double> *const &pc, KN<double> *const 
     }
     merit = L.merit();
     it++;
+    logIteration(it, residual);
     if (residual <= SP.tol || it >= SP.maxit || std::isnan(residual) || std::isinf(residual)) break;
   }
   endStep();
@@ -939,6 +975,7 @@ long lawRelations(KN<double> *const &pc, KN<double> *const &pa, KN<double> *cons
 }
 
 double lawMerit() { return L.merit(); }
+long newtonLog(const long &it, const double &residual) { requireNodes("contactNewtonLog"); logIteration((int)it, residual); return 0; }
 long newtonGuard(const long &it) { requireNodes("contactNewtonGuard"); return guard((int)it); }
 long newtonAccept(const double &merit, const double &step, const long &cut) {
   double worst = 0;
@@ -1013,6 +1050,7 @@ static void Load_Init() {
   Global.Add("contactLawRelations", "(", new OneOperator5_<long, KN<double> *, KN<double> *, KN<double> *, KN<double> *, KN<long> *>(lawRelations));
   Global.Add("contactLawMerit", "(", new OneOperator0<double>(lawMerit));
   Global.Add("contactNewtonGuard", "(", new OneOperator1_<long, long>(newtonGuard));
+  Global.Add("contactNewtonLog", "(", new OneOperator2_<long, long, double>(newtonLog));
   Global.Add("contactNewtonAccept", "(", new OneOperator3_<long, double, double, long>(newtonAccept));
   Global.Add("contactNewtonEnd", "(", new OneOperator0<long>(newtonEnd));
   Global.Add("contactKernelCounters", "(", new OneOperator1_<long, KN<double> *>(counters));

@@ -205,6 +205,11 @@ void toStderr(const std::string &text) {
 }
 
 long runError(const long &code, string *const &message) { fail((int)code, *message); }
+// one line on the standard error (progress, the Newton log), unbuffered
+long runNote(string *const &message) {
+  toStderr(*message + "\n");
+  return 0;
+}
 
 double runWallClock() {
   return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
@@ -310,15 +315,37 @@ bool makeFolders(const std::string &path, bool record = false) {
 }
 long runMakeFolders(string *const &path) { return makeFolders(*path) ? 0 : 1; }
 
-// the file names a folder's run.complete lists (plain names only); false if it has none, or
-// one without this suite's signature line
+// A run's files: plain names, and those of its one subfolder, vtk/ (-vtk N), as "vtk/NAME".
+const char *seriesFolder = "vtk";
+bool plainName(const std::string &name) { return !name.empty() && name != "." && name != ".." && name.find('/') == std::string::npos; }
+bool runFileName(const std::string &name) {
+  const size_t slash = name.find('/');
+  return slash == std::string::npos ? plainName(name) : name.substr(0, slash) == seriesFolder && plainName(name.substr(slash + 1));
+}
+// the files of a folder as run.complete names them (files of vtk/ as "vtk/NAME"); foreign gets
+// what a run never writes (other folders, folders inside vtk/)
+bool runFilesOf(const std::string &folder, std::vector<std::string> &files, std::string &foreign) {
+  std::vector<std::pair<std::string, bool>> entries, inside;
+  if (!listFolder(folder, entries)) return false;
+  for (auto &e : entries) {
+    if (!e.second) { files.push_back(e.first); continue; }
+    if (e.first != seriesFolder || !listFolder(folder + "/" + e.first, inside)) { foreign += (foreign.empty() ? "" : ", ") + e.first; continue; }
+    for (auto &f : inside)
+      if (f.second) foreign += (foreign.empty() ? "" : ", ") + e.first + "/" + f.first;
+      else files.push_back(e.first + "/" + f.first);
+  }
+  return true;
+}
+
+// the file names a folder's run.complete lists; false if it has none, or one without this
+// suite's signature line
 bool completeListing(const std::string &folder, std::set<std::string> &listed) {
   listed.clear();
   std::ifstream f(folder + "/" + completeMarker);
   std::string line;
   if (!f || !std::getline(f, line) || line != completeSignature) return false;
   while (std::getline(f, line))
-    if (!line.empty() && line != "." && line != ".." && line.find('/') == std::string::npos) listed.insert(line);
+    if (runFileName(line)) listed.insert(line);
   return true;
 }
 
@@ -337,8 +364,10 @@ std::string whyNotReplaceable(const std::string &folder) {
     return "is a folder that does not hold results of this suite (no run.complete)";
   }
   std::string foreign;
-  for (auto &e : entries)
-    if (e.first != completeMarker && (e.second || !listed.count(e.first))) foreign += (foreign.empty() ? "" : ", ") + e.first;
+  std::vector<std::string> files;
+  if (!runFilesOf(folder, files, foreign)) return "cannot be read (" + errorText() + ")";
+  for (auto &name : files)
+    if (name != completeMarker && !listed.count(name)) foreign += (foreign.empty() ? "" : ", ") + name;
   if (!foreign.empty()) return "holds files that this suite did not write there (" + foreign + ")";
   return "";
 }
@@ -513,6 +542,7 @@ void removeReplaced(const std::string &replaced) {
   std::set<std::string> listed;
   if (completeListing(replaced, listed)) unlink((replaced + "/" + completeMarker).c_str());   // first: never complete-looking
   for (const std::string &name : listed) unlink((replaced + "/" + name).c_str());
+  rmdir((replaced + "/" + seriesFolder).c_str());  // only if empty
   if (rmdir(replaced.c_str()) == 0) return;
   std::vector<std::pair<std::string, bool>> entries;
   if (errno != ENOTEMPTY && errno != EEXIST) {
@@ -536,10 +566,11 @@ long runFolderFinish() {
   if (!why.empty())
     fail(7, "option -out = '" + RF.out + "' " + why + " since this run started: it is not replaced, and this run's "
             + "results are not kept; run it again with another -out");
-  std::vector<std::pair<std::string, bool>> entries;
-  if (!listFolder(RF.partial, entries)) fail(7, "cannot read " + RF.partial + ": " + errorText());
+  std::vector<std::string> files;
+  std::string foreign;
+  if (!runFilesOf(RF.partial, files, foreign)) fail(7, "cannot read " + RF.partial + ": " + errorText());
   std::string marker = std::string(completeSignature) + "\n";
-  for (auto &e : entries) if (!e.second && e.first != completeMarker) marker += e.first + "\n";
+  for (auto &name : files) if (name != completeMarker) marker += name + "\n";
   const std::string path = RF.partial + "/" + completeMarker;
   int fd = open(path.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0666);
   bool ok = fd >= 0;
@@ -980,6 +1011,7 @@ long runCheckMesh(string *const &in, string *const &out, string *const &required
 static void Load_Init() {
   installSignalHandlers();                          // a signal at any moment removes what the run has created so far
   Global.Add("runError", "(", new OneOperator2_<long, long, string *>(runError));
+  Global.Add("runNote", "(", new OneOperator1_<long, string *>(runNote));
   Global.Add("runWallClock", "(", new OneOperator0<double>(runWallClock));
   Global.Add("runProcessId", "(", new OneOperator0<long>(runProcessId));
   Global.Add("runFileReadable", "(", new OneOperator1_<long, string *>(runFileReadable));

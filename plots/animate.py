@@ -29,9 +29,10 @@ ZONE_COLORS = {zone.code: zone.color for zone in suite.ZONES}
 
 def time_series(folder):
     """[(t, Vtu)] of the run's vtk/ folder, at most FRAMES of them, all on the same mesh."""
-    if not os.path.isdir(os.path.join(folder, "vtk")):
+    vtk = os.path.join(folder, "vtk")
+    if not os.path.isdir(vtk) or not os.listdir(vtk):          # a run without -vtk N may leave it empty
         raise suite.InputError(f"{folder} has no vtk/ time series: run with -vtk N")
-    series = suite.read_pvd(os.path.join(folder, "vtk", "fields.pvd"))
+    series = suite.read_pvd(os.path.join(vtk, "fields.pvd"))
     chosen = np.unique(np.linspace(0, len(series) - 1, min(len(series), FRAMES)).round().astype(int))
     frames = [(series[i][0], suite.read_vtu(series[i][1])) for i in chosen]
     for (_, first), (t, frame) in zip(frames, frames[1:]):

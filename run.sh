@@ -5,6 +5,8 @@
 #   ./run.sh test [--bless CASE]   the test harness (ends with "N passed, N failed")
 #   ./run.sh solve [options] one run of edp/solve.edp (options: see README.md)
 #   ./run.sh figures [name]  redraw figures from existing results
+#   ./run.sh figures RUN_DIR [RUN_DIR ...]   every figure of those run folders, into RUN_DIR/figures
+#   ./run.sh animate RUN_DIR the deformed body over time (a run with -vtk N) -> RUN_DIR/figures
 #   ./run.sh bench [--quick] the benchmark: cost per step, work-precision (results/bench)
 #   ./run.sh stability [--quick]  where each method fails (results/stability)
 # Checks for FreeFem++, gmsh, numdiff and python3 with matplotlib first, and installs
@@ -156,7 +158,11 @@ case "$command" in
   test) ensure_dependencies; exec bash "$here/tests/run_tests.sh" "$@" ;;
   bench) ensure_dependencies; exec bash "$here/tests/bench.sh" "$@" ;;
   stability) ensure_dependencies; exec bash "$here/tests/stability.sh" "$@" ;;
-  figures) ensure_dependencies; "$PYTHON" "$here/plots/figures.py" --results "${RESULTS_DIR:-$here/results}" --out "${RESULTS_DIR:-$here/results}/figures" "$@" ;;
-  -h|--help|help) sed -n '2,11p' "$0" | sed 's/^# \{0,1\}//' ;;
-  *) echo "run.sh: error: unknown command '$command' (commands: solve, test, figures, bench, stability, or none for the main job)" >&2; exit 2 ;;
+  figures) ensure_dependencies
+    # A folder (an existing one, or a path with a '/') means run folders; otherwise figure names.
+    if [ $# -gt 0 ] && { [ -d "$1" ] || [[ "$1" == */* ]]; }; then exec "$PYTHON" "$here/plots/run_figures.py" "$@"; fi
+    "$PYTHON" "$here/plots/figures.py" --results "${RESULTS_DIR:-$here/results}" --out "${RESULTS_DIR:-$here/results}/figures" "$@" ;;
+  animate) ensure_dependencies; exec "$PYTHON" "$here/plots/animate.py" "$@" ;;
+  -h|--help|help) sed -n '2,13p' "$0" | sed 's/^# \{0,1\}//' ;;
+  *) echo "run.sh: error: unknown command '$command' (commands: solve, test, figures, animate, bench, stability, or none for the main job)" >&2; exit 2 ;;
 esac

@@ -21,13 +21,6 @@ plt = suite.pyplot()
 PROBLEMS = ("original", "penalty")
 
 
-def problem_label(params):
-    """'original problem' or 'penalty problem, eps = ...' from a file's parameter lines."""
-    if params.get("problem") == "penalty":
-        return f"penalty problem, $\\varepsilon$ = {params['eps']}"
-    return f"{params.get('problem', '?')} problem"
-
-
 def fig2_deformed(results, out):
     """Fig. 2: deformed configuration at T, true scale, with the contact line y = 0."""
     fig, axes = plt.subplots(1, 2, sharey=True)
@@ -40,7 +33,7 @@ def fig2_deformed(results, out):
         ax.triplot(tri, color="0.3", linewidth=0.3)
         ax.axhline(0.0, color="tab:red", linewidth=1.0, label="undeformed contact line y = 0")
         ax.set_aspect("equal")
-        ax.set_title(f"{problem_label(p)}: deformed mesh at T (true scale)")
+        ax.set_title(f"{suite.problem_label(p)}: deformed mesh at T (true scale)")
         ax.set_xlabel("x [m]")
         ax.legend(loc="upper right")
     axes[0].set_ylabel("y [m]")
@@ -59,24 +52,30 @@ def fig3_contact_reactions(results, out):
         ax.plot(c["x"], c["lambda_tau"], "s-", label=r"tangential stress $\lambda_\tau$")
         ax.plot(c["x"], c["friction_bound"], "k-", linewidth=0.8, label=r"friction bound $\mu p(v_\nu)$")
         ax.plot(c["x"], -c["friction_bound"], "k-", linewidth=0.8)
-        ax.set_title(f"{problem_label(p)}: contact stresses on $\\Gamma_3$ at T = {p['T']}")
+        ax.set_title(f"{suite.problem_label(p)}: contact stresses on $\\Gamma_3$ at T = {p['T']}")
         ax.set_xlabel("x [m]")
         ax.legend(loc="center right", fontsize=8)   # the band between p(g) and lambda_nu on CD is empty
     axes[0].set_ylabel("stress [GPa]")
     return suite.save(fig, out, "fig3_contact_reactions")
 
 
-def zone_edges(c):
-    """Node counts and x-extent of the zones AB (damped, slip), BC (bound, slip), CD (stick)."""
-    normal, tangential = c["normal_status"], c["tangential_status"]
-    zones = {"AB": (normal == 1) & (tangential == 1), "BC": (normal == 2) & (tangential == 1),
-             "CD": (normal > 0) & (tangential == 0)}
-    return {name: (int(mask.sum()), c["x"][mask]) for name, mask in zones.items()}
+# The paper's zones (section 5): AB damped and sliding, BC at the bound and sliding, CD sticking
+# in contact; from the zone code of a node (suite.ZONES). A free node is in none.
+PAPER_ZONES = {1: "AB", 3: "BC", 2: "CD", 4: "CD"}
+PAPER_COLORS = {"AB": "tab:green", "BC": "tab:orange", "CD": "tab:purple"}
+
+
+def paper_zones(c):
+    """The paper's zone of each node of a contact.txt ('' for a free node)."""
+    return [PAPER_ZONES.get(code, "") for code in suite.zone_codes(c["normal_status"], c["tangential_status"])]
 
 
 def fig4_velocities(results, out):
-    """Fig. 4: normal and tangential velocity on Gamma3 at T, with the bound g and the zones."""
+    """Fig. 4: normal and tangential velocity on Gamma3 at T, with the bound g and the zones,
+    shaded from the nodes' statuses wherever they lie (a zone may come in several stretches)
+    and labelled once each, over its widest stretch."""
     fig, axes = plt.subplots(1, 2, sharey=True)
+    labels = []
     for ax, problem in zip(axes, PROBLEMS):
         c = suite.read_table(os.path.join(results, f"paper-{problem}", "contact.txt"))
         p = c.params
@@ -84,15 +83,20 @@ def fig4_velocities(results, out):
         ax.plot(c["x"], c["v_nu"], "o-", label=r"$v_\nu$")
         ax.plot(c["x"], c["v_tau"], "s-", label=r"$v_\tau$")
         ax.axhline(g, color="k", linewidth=0.8, linestyle="--", label=f"bound g = {g}")
-        for (name, (count, xs)), color in zip(zone_edges(c).items(), ("tab:green", "tab:orange", "tab:purple")):
-            if count:
-                ax.axvspan(xs.min(), xs.max(), color=color, alpha=0.12)
-                ax.text(0.5 * (xs.min() + xs.max()), 1.12 * g, f"{name}: {count} nodes", ha="center", fontsize=8)
-        ax.set_ylim(top=1.25 * g)
-        ax.set_title(f"{problem_label(p)}: velocities on $\\Gamma_3$ at T = {p['T']}")
+        zones = paper_zones(c)
+        found = suite.stretches(c["x"], zones)
+        suite.shade_stretches(ax, found, PAPER_COLORS, alpha=0.12)
+        labels.append((ax, found, {name: f"{name}: {suite.nodes(zones.count(name))}" for name in PAPER_COLORS}, g))
+        ax.set_title(f"{suite.problem_label(p)}: velocities on $\\Gamma_3$ at T = {p['T']}")
         ax.set_xlabel("x [m]")
         ax.legend(loc="center right")          # CD: v_nu = g, v_tau = 0 leave this corner empty
     axes[0].set_ylabel("velocity [m/s]")
+    g = max(g for *_, g in labels)
+    bottom = axes[0].get_ylim()[0]                        # of both curves: the axes are shared
+    axes[0].set_ylim(top=max(1.25 * g, bottom + (g - bottom) / 0.86))    # g at most 86 % up: the labels above
+    fig.tight_layout()
+    for ax, found, texts, _ in labels:
+        suite.label_stretches(ax, found, texts, (0.93, 0.885, 0.84))
     return suite.save(fig, out, "fig4_velocities")
 
 
@@ -180,8 +184,8 @@ def contact_forces_history(results, out):
     for problem, style in zip(PROBLEMS, ("-", "--")):
         h = suite.read_table(os.path.join(results, f"paper-{problem}", "contact_history.txt"))
         p = h.params
-        left.plot(h["t"], h["normal_force"], style, label=problem_label(p))
-        right.plot(h["t"], h["tangential_force"], style, label=problem_label(p))
+        left.plot(h["t"], h["normal_force"], style, label=suite.problem_label(p))
+        right.plot(h["t"], h["tangential_force"], style, label=suite.problem_label(p))
     folder = os.path.join(results, "paper-original")
     h = suite.read_table(os.path.join(folder, "contact_history.txt"))
     applied = applied_normal_load(folder, h.params, h["t"])
@@ -196,30 +200,18 @@ def contact_forces_history(results, out):
     return suite.save(fig, out, "contact_forces_history")
 
 
-ENERGY_TERMS = (("kinetic", "kinetic", False), ("elastic", "elastic", False),
-                ("numerical_dissipation", "numerical dissipation (cumulative)", True),
-                ("viscous_dissipation", "viscous dissipation (cumulative)", True),
-                ("contact_dissipation", "contact dissipation (cumulative)", True),
-                ("external_work", "external work (cumulative)", True))
-
-
 def energy_history(results, out):
     """Discrete energy balance (docs/design.md, "Energy identity"): the energies and the cumulative
     dissipations and work against t (left, log scale), the per-step residual (right)."""
     fig, (left, right) = plt.subplots(1, 2)
-    colors = plt.rcParams["axes.prop_cycle"].by_key()["color"]
     for problem, style in zip(PROBLEMS, ("-", "--")):
         h = suite.read_table(os.path.join(results, f"paper-{problem}", "history.txt"))
-        for (column, label, cumulative), color in zip(ENERGY_TERMS, colors):
-            values = np.cumsum(h[column]) if cumulative else h[column]
-            left.semilogy(h["t"], values, style, color=color, label=label if problem == "original" else None)
+        suite.energy_terms_plot(left, h, style, labelled=problem == "original")
         residual = np.where(h["energy_residual"] > 0, h["energy_residual"], np.nan)   # log scale: 0 is not drawn
-        right.semilogy(h["t"], residual, style, marker="o", markersize=2, label=problem_label(h.params))
+        right.semilogy(h["t"], residual, style, marker="o", markersize=2, label=suite.problem_label(h.params))
     left.plot([], [], "k-", label="original problem")
     left.plot([], [], "k--", label="penalty problem")
     left.set_title("energies at $t_n$ and cumulative dissipations and work")
-    left.set_xlabel("t [s]")
-    left.set_ylabel("energy per unit thickness [GJ/m]")
     left.legend(fontsize=7, loc="lower right")
     right.set_title("energy balance residual of each step (relative to its largest term)")
     right.set_xlabel("t [s]")
@@ -234,7 +226,7 @@ def zone_boundaries(results, out):
     fig, (left, right) = plt.subplots(1, 2)
     for problem, style in zip(PROBLEMS, ({"linestyle": "-"}, {"linestyle": "none", "marker": "o", "markersize": 2.5})):
         h = suite.read_table(os.path.join(results, f"paper-{problem}", "contact_history.txt"))
-        name = problem_label(h.params)
+        name = suite.problem_label(h.params)
         left.plot(h["t"], h["x_B"], color="tab:orange", label=f"$x_B$, {name}", **style)
         left.plot(h["t"], h["x_C"], color="tab:purple", label=f"$x_C$, {name}", **style)
         counts = {"AB (damped, slip)": h["zone_damped_slip"], "BC (at the bound, slip)": h["zone_bound_slip"],
@@ -264,19 +256,6 @@ def scene_run(results, name):
     return folder, c, suite.read_table(os.path.join(folder, "contact_history.txt")), suite.RunScene(folder, c.params)
 
 
-def zone_counts_plot(ax, h):
-    """The nodes of each zone against t."""
-    for column, label, color in (("zone_free", "free", "0.5"), ("zone_damped_slip", "damped, slip", "tab:green"),
-                                 ("zone_damped_stick", "damped, stick", "tab:olive"),
-                                 ("zone_bound_slip", "at the bound, slip", "tab:orange"),
-                                 ("zone_bound_stick", "at the bound, stick", "tab:purple")):
-        ax.plot(h["t"], h[column], color=color, label=label)
-    ax.set_xlabel("t [s]")
-    ax.set_ylabel("nodes")
-    ax.set_title("nodes per zone on $\\Gamma_3$")
-    ax.legend(fontsize=7)
-
-
 def scene_unloading(results, out):
     """The unloading scene: the contact force follows the load up and down (left), the zones
     form while it rises and free up while it falls (right)."""
@@ -291,7 +270,7 @@ def scene_unloading(results, out):
     left.set_ylabel("force per unit thickness [GPa m]")
     left.set_title(f"loaded, then unloaded: f2 = {c.params['load']} h(t)")
     left.legend(fontsize=7)
-    zone_counts_plot(right, h)
+    suite.zone_counts_plot(right, h)
     return suite.save(fig, out, "scene_unloading")
 
 
@@ -304,12 +283,11 @@ def scene_cylinder(results, out):
     fig, (left, right) = plt.subplots(1, 2)
     tri = mtri.Triangulation(f["x"] + f["u_x"], f["y"] + f["u_y"], mesh.triangles)
     left.triplot(tri, color="0.6", linewidth=0.3)
-    zone = np.where(c["normal_status"] == 0, 0, 2 * c["normal_status"] - c["tangential_status"])
-    for value, label, color in ((1, "damped, slip", "tab:green"), (2, "damped, stick", "tab:olive"),
-                                (3, "at the bound, slip", "tab:orange"), (4, "at the bound, stick", "tab:purple")):
-        mask = zone == value
+    zone = suite.zone_codes(c["normal_status"], c["tangential_status"])
+    for z in suite.ZONES[1:]:
+        mask = zone == z.code
         if mask.any():
-            left.plot(c["x"][mask], c["y"][mask], "o", color=color, label=f"{label}: {int(mask.sum())} nodes")
+            left.plot(c["x"][mask], c["y"][mask], "o", color=z.color, label=f"{z.name}: {int(mask.sum())} nodes")
     left.set_aspect("equal")
     left.set_xlabel("x [m] (at T, displaced)")
     left.set_ylabel("y [m]")

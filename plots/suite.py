@@ -166,6 +166,24 @@ def read_summary(path):
     return summary
 
 
+def run_folder(folder):
+    """The folder, if it is the folder of a finished run (it holds summary.txt and
+    run.complete, docs/design.md "Output files"); otherwise InputError."""
+    if not os.path.isdir(folder):
+        raise InputError(f"{folder}: no such folder")
+    missing = [name for name in ("summary.txt", "run.complete") if not os.path.isfile(os.path.join(folder, name))]
+    if missing:
+        raise InputError(f"{folder} is not the folder of a finished run (no {' and no '.join(missing)})")
+    return folder
+
+
+def problem_label(params):
+    """'original problem' or 'penalty problem, eps = ...' from a file's parameter lines."""
+    if params.get("problem") == "penalty":
+        return f"penalty problem, $\\varepsilon$ = {params['eps']}"
+    return f"{params.get('problem', '?')} problem"
+
+
 def write_table(path, comments, columns, rows):
     """A table in the format of the solver's outputs: a '# ' line per comment, the '#' line
     naming the columns, then the rows; floats written with repr (full precision, the same
@@ -244,6 +262,125 @@ def _labels():
 def labels():
     """The boundary labels named in edp/lib/forms.idp, e.g. {"GammaContact": 1, ...}."""
     return dict(_labels())
+
+
+def nearest(points, targets):
+    """For each target (x, y), the row of the nearest of points (n, 2)."""
+    points = np.asarray(points, dtype=float)
+    return np.array([int(np.argmin(np.hypot(*(points - target).T))) for target in np.asarray(targets, dtype=float)],
+                    dtype=int)
+
+
+def boundary_edges(triangles):
+    """The edges (pairs of nodes) that belong to one triangle only: the boundary of the body."""
+    edges = np.sort(np.concatenate([triangles[:, [0, 1]], triangles[:, [1, 2]], triangles[:, [2, 0]]]), axis=1)
+    unique, counts = np.unique(edges, axis=0, return_counts=True)
+    return unique[counts == 1]
+
+
+def boundary_arc_length(mesh, label):
+    """The arc length along the boundary lines of `label`: {row of mesh.xy: s}. The walk
+    starts at the end of smallest (x, y); where the boundary is in pieces, each next piece
+    starts from its own end of smallest (x, y), s going on across the straight gap."""
+    neighbours = collections.defaultdict(list)
+    for a, b in mesh.lines[mesh.line_labels == label]:
+        neighbours[a].append(b)
+        neighbours[b].append(a)
+    s, last, length = {}, None, 0.0
+    while len(s) < len(neighbours):
+        left = [node for node in neighbours if node not in s]
+        ends = [node for node in left if len(neighbours[node]) == 1] or left     # a closed loop has no end
+        node = min(ends, key=lambda n: tuple(mesh.xy[n]))
+        while node is not None:                             # along the piece, to its other end
+            if last is not None:
+                length += float(np.hypot(*(mesh.xy[node] - mesh.xy[last])))
+            s[node], last = length, node
+            node = next((n for n in neighbours[node] if n not in s), None)
+    return s
+
+
+def contact_position(mesh, x, y):
+    """Where the contact nodes (x, y) lie along Gamma3, and the axis label: x itself when
+    Gamma3 is straight along x (every y the same), otherwise the arc length along the mesh's
+    contact boundary (boundary_arc_length), each node taken as the nearest node of it."""
+    x, y = np.asarray(x, dtype=float), np.asarray(y, dtype=float)
+    if np.ptp(y) <= 1e-9 * max(np.ptp(x), 1e-300):
+        return x, "x [m]"
+    s = boundary_arc_length(mesh, labels()["GammaContact"])
+    if not s:
+        raise InputError("the mesh has no contact boundary (physical curve 1)")
+    nodes = np.array(sorted(s))
+    start = mesh.xy[min(s, key=s.get)]
+    return (np.array([s[n] for n in nodes[nearest(mesh.xy[nodes], np.c_[x, y])]]),
+            f"arc length along $\\Gamma_3$ from ({start[0]:.3g}, {start[1]:.3g}) [m]")
+
+
+def read_xml(path):
+    """The root element of an XML file."""
+    import xml.etree.ElementTree as ElementTree
+    try:
+        return ElementTree.parse(path).getroot()
+    except ElementTree.ParseError as error:
+        raise InputError(f"{path}: not an XML file ({error})") from None
+    except FileNotFoundError:
+        raise InputError(f"missing {path}") from None
+
+
+def vtk_array(path, element, where):
+    """The numbers of a DataArray element of the VTK file path (named `where` in messages):
+    (n,) for one component, (n, k) for k."""
+    if element is None:
+        raise InputError(f"{path}: no {where}")
+    if element.get("format", "ascii") != "ascii":
+        raise InputError(f"{path}: {where} is not ascii")
+    try:
+        values = np.array((element.text or "").split(), dtype=float)
+        components = int(element.get("NumberOfComponents", "1"))
+    except ValueError:
+        raise InputError(f"{path}: unreadable numbers in {where}") from None
+    if components < 1 or values.size % components:
+        raise InputError(f"{path}: {where} has {values.size} values for {components} components")
+    return values.reshape(-1, components) if components > 1 else values
+
+
+Vtu = collections.namedtuple("Vtu", "xy triangles point_data")
+
+
+def read_vtu(path):
+    """One ASCII VTK XML UnstructuredGrid of triangles, as edp/solve.edp -vtk writes it:
+    Vtu(xy (points, 2), triangles (cells, 3), point_data {name: (points,) or (points, k)})."""
+    piece = read_xml(path).find("UnstructuredGrid/Piece")
+    if piece is None:
+        raise InputError(f"{path}: not a VTK UnstructuredGrid file (no UnstructuredGrid/Piece)")
+    xy = vtk_array(path, piece.find("Points/DataArray"), "Points")
+    if xy.ndim != 2 or xy.shape[1] < 2:
+        raise InputError(f"{path}: the Points need 2 or 3 components")
+    cells = {name: vtk_array(path, piece.find(f"Cells/DataArray[@Name='{name}']"), f"Cells {name}").astype(int)
+             for name in ("connectivity", "offsets", "types")}
+    if (cells["types"] != 5).any() or not np.array_equal(cells["offsets"], 3 * np.arange(1, cells["types"].size + 1)):
+        raise InputError(f"{path}: the cells are not all triangles (VTK type 5)")
+    triangles = cells["connectivity"].reshape(-1, 3)
+    if triangles.size and (triangles.min() < 0 or triangles.max() >= len(xy)):
+        raise InputError(f"{path}: a cell names a point that does not exist")
+    data = {element.get("Name"): vtk_array(path, element, f"PointData {element.get('Name')}")
+            for element in piece.findall("PointData/DataArray")}
+    for name, values in data.items():
+        if len(values) != len(xy):
+            raise InputError(f"{path}: PointData {name} has {len(values)} rows for {len(xy)} points")
+    return Vtu(xy[:, :2], triangles, data)
+
+
+def read_pvd(path):
+    """The time series of a ParaView collection file: [(t, path of its .vtu file)], in the
+    file's order."""
+    sets = read_xml(path).findall("Collection/DataSet")
+    try:
+        series = [(float(item.get("timestep")), os.path.join(os.path.dirname(path), item.get("file"))) for item in sets]
+    except (TypeError, ValueError):
+        raise InputError(f"{path}: a DataSet without a numeric timestep and a file") from None
+    if not series:
+        raise InputError(f"{path}: no DataSet in its Collection")
+    return series
 
 
 # ---------------------------------------------------------------- options and scenes
@@ -422,6 +559,134 @@ def solver_failure(message):
         return SolverFailure(int(step), float(t), int(iterations), mode, float(residual), float(tol))
     except ValueError:
         return None
+
+
+# ---------------------------------------------------------------- zones on Gamma3
+Zone = collections.namedtuple("Zone", "code column name color")
+Zone.__doc__ = """A zone of docs/design.md, "Statuses and zones": its code (the column `zone` of
+contact_nodes_history.txt, `contact_zone` of the VTK files), its column of summary.txt and
+contact_history.txt, its name and its colour in every figure."""
+ZONES = (Zone(0, "zone_free", "free", "0.6"),
+         Zone(1, "zone_damped_slip", "damped, slip", "tab:green"),
+         Zone(2, "zone_damped_stick", "damped, stick", "tab:olive"),
+         Zone(3, "zone_bound_slip", "at the bound, slip", "tab:orange"),
+         Zone(4, "zone_bound_stick", "at the bound, stick", "tab:purple"))
+
+
+def zone_codes(normal_status, tangential_status):
+    """The zone code of each contact node from its statuses: 0 free (normal status 0), else
+    2 normal - tangential: 1 damped slip, 2 damped stick, 3 bound slip, 4 bound stick."""
+    normal = np.asarray(normal_status).astype(int)
+    return np.where(normal == 0, 0, 2 * normal - np.asarray(tangential_status).astype(int))
+
+
+def halfway_edges(s):
+    """The edges of the cells of sorted positions s: halfway between neighbours, and the
+    first and the last position."""
+    return np.r_[s[0], 0.5 * (s[1:] + s[:-1]), s[-1]]
+
+
+def stretches(position, keys):
+    """The stretches of Gamma3 over which consecutive nodes (in the order of position) have
+    the same key: [(key, start, end, nodes)], wherever they lie, a key perhaps in several
+    stretches. A node holds Gamma3 up to halfway to its neighbours; the first and the last
+    node end the first and the last stretch."""
+    order = np.argsort(position, kind="stable")
+    k = [keys[i] for i in order]
+    cuts = halfway_edges(np.asarray(position, dtype=float)[order])
+    found, first = [], 0
+    for i in range(1, len(k) + 1):
+        if i == len(k) or k[i] != k[first]:
+            found.append((k[first], cuts[first], cuts[i], i - first))
+            first = i
+    return found
+
+
+def shade_stretches(ax, found, colors, alpha=0.15):
+    """Shade each stretch (of stretches()) whose key has a colour in colors."""
+    for key, start, end, _ in found:
+        if key in colors:
+            ax.axvspan(start, end, color=colors[key], alpha=alpha, linewidth=0)
+
+
+def label_stretches(ax, found, texts, heights, fontsize=8):
+    """Write texts[key] once per key, centred over the widest of its stretches, at the first
+    of the heights (fractions of the axes' height) where it overlaps no label written before
+    (at the last height when none is free). Call it once the layout and the x limits of ax
+    are final."""
+    widest = {}
+    for key, start, end, _ in found:
+        if key in texts and (key not in widest or end - start > widest[key][1] - widest[key][0]):
+            widest[key] = (start, end)
+    renderer = ax.figure.canvas.get_renderer()
+    boxes = []
+    for key, (start, end) in sorted(widest.items(), key=lambda item: item[1]):
+        for y in heights:
+            label = ax.text(0.5 * (start + end), y, texts[key], ha="center", fontsize=fontsize,
+                            transform=ax.get_xaxis_transform())
+            box = label.get_window_extent(renderer).padded(1)
+            if y == heights[-1] or not any(box.overlaps(other) for other in boxes):
+                break
+            label.remove()
+        boxes.append(box)
+
+
+def nodes(count):
+    """'1 node', '2 nodes', ..."""
+    return f"{count} node" if count == 1 else f"{count} nodes"
+
+
+def zone_patches(codes=None, alpha=1.0):
+    """Legend handles of the zones: all five, or those of the given zone codes of nodes,
+    with their node counts."""
+    from matplotlib.patches import Patch
+    if codes is None:
+        return [Patch(color=zone.color, alpha=alpha, label=zone.name) for zone in ZONES]
+    counts = {zone: int(np.sum(np.asarray(codes) == zone.code)) for zone in ZONES}
+    return [Patch(color=zone.color, alpha=alpha, label=f"{zone.name}: {nodes(count)}")
+            for zone, count in counts.items() if count]
+
+
+def zone_counts_plot(ax, h):
+    """The nodes of each zone against t, from a contact_history.txt."""
+    for zone in ZONES:
+        ax.plot(h["t"], h[zone.column], color=zone.color, label=zone.name)
+    ax.set_xlabel("t [s]")
+    ax.set_ylabel("nodes")
+    ax.set_title("nodes per zone on $\\Gamma_3$")
+    ax.legend(fontsize=7)
+
+
+# The energy terms of history.txt (docs/design.md, "Energy identity"): column, label, and
+# whether a figure shows it summed over the steps (the dissipations and the work of a step).
+ENERGY_TERMS = (("kinetic", "kinetic", False), ("elastic", "elastic", False),
+                ("numerical_dissipation", "numerical dissipation (cumulative)", True),
+                ("viscous_dissipation", "viscous dissipation (cumulative)", True),
+                ("contact_dissipation", "contact dissipation (cumulative)", True),
+                ("external_work", "external work (cumulative)", True))
+
+
+def energy_terms_plot(ax, h, style="-", labelled=True):
+    """The energy terms of a history.txt against t, on a log scale (0 is not drawn), one
+    colour per term, labelled or not."""
+    import matplotlib
+    colors = matplotlib.rcParams["axes.prop_cycle"].by_key()["color"]
+    for (column, label, cumulative), color in zip(ENERGY_TERMS, colors):
+        values = np.cumsum(h[column]) if cumulative else h[column]
+        ax.semilogy(h["t"], values, style, color=color, label=label if labelled else None)
+    ax.set_xlabel("t [s]")
+    ax.set_ylabel("energy per unit thickness [GJ/m]")
+
+
+def magnification(size, largest):
+    """The factor (1, 2 or 5 times a power of 10) that shows displacements of at most
+    `largest` on a body of extent `size` at about a tenth of it; 1 when they show already
+    (a fiftieth of it or more) or are 0."""
+    if largest <= 0 or largest >= 0.02 * size:
+        return 1.0
+    wanted = 0.1 * size / largest
+    decade = 10.0 ** np.floor(np.log10(wanted))
+    return float(max(step * decade for step in (1, 2, 5) if step * decade <= wanted))
 
 
 # ---------------------------------------------------------------- figures

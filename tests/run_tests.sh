@@ -851,5 +851,41 @@ for f in "${OUTPUT_FILES[@]}"; do
 done
 report $status "two runs with the same options give identical outputs" "$diag"
 
+# ---- figures for any run (plots)
+# ./run.sh figures RUN_DIR ... and ./run.sh animate RUN_DIR (docs/figures.md) on a coarse paper
+# run with a VTK time series and a coarse cylinder run (a curved Gamma3: arc length).
+diag="$work/figures.diag"; : > "$diag"; status=0
+paper="$work/figures-paper" cylinder="$work/figures-cylinder"
+rm -rf "$paper" "$cylinder"                  # their figures/ would make the solves refuse the folders
+solve "${coarse[@]}" -vtk 2 -out "$paper" >> "$diag" 2>&1 || { echo "the paper run failed" >> "$diag"; status=1; }
+solve -scene cylinder -nx 12 -ny 12 -dt 0.1 -out "$cylinder" >> "$diag" 2>&1 || { echo "the cylinder run failed" >> "$diag"; status=1; }
+./run.sh figures "$paper" "$cylinder" > "$work/figures.log" 2>> "$diag" || { echo "./run.sh figures failed" >> "$diag"; status=1; }
+for file in "$paper"/figures/{contact_at_T,histories,deformed,zone_map,compare_contact}.png \
+            "$cylinder"/figures/{contact_at_T,histories,deformed,zone_map}.png; do
+  [ -s "$file" ] && grep -qxF "$file" "$work/figures.log" || { echo "$file: missing, empty or not listed" >> "$diag"; status=1; }
+done
+report $status "figures of any run: the paper scene and the cylinder (curved Gamma3), every figure and the comparison" "$diag"
+
+diag="$work/animate.diag"; : > "$diag"; status=0
+./run.sh animate "$paper" > "$work/animate.log" 2>> "$diag" || { echo "./run.sh animate failed" >> "$diag"; status=1; }
+"$PYTHON" -c 'import sys; from PIL import Image
+frames = Image.open(sys.argv[1]).n_frames
+assert frames > 1, f"{frames} frame"' "$paper/figures/animation.gif" >> "$diag" 2>&1 || status=1
+[ "$(stat -c %s "$paper/figures/animation.gif" 2>/dev/null || echo 0)" -lt 5000000 ] || { echo "animation.gif: 5 MB or more" >> "$diag"; status=1; }
+report $status "animation: a GIF of more than one frame, under 5 MB" "$diag"
+
+diag="$work/figures-refused.diag"; : > "$diag"; status=0
+refused() { # refused EXIT REGEX COMMAND...: the command exits EXIT with one line matching REGEX on stderr
+  local code="$1" regex="$2" rc=0; shift 2
+  "$@" > /dev/null 2> "$work/refused.log" || rc=$?
+  [ "$rc" = "$code" ] && [ "$(wc -l < "$work/refused.log")" = 1 ] && grep -Eq "$regex" "$work/refused.log" \
+    || { echo "$*: exit $rc, expected $code and one line /$regex/:" >> "$diag"; cat "$work/refused.log" >> "$diag"; status=1; }
+}
+refused 2 "is not the folder of a finished run" ./run.sh figures "$work"
+refused 2 "no such folder" ./run.sh figures "$work/no-such-run/"
+refused 2 "has no vtk/ time series: run with -vtk N" ./run.sh animate "$cylinder"
+report $status "figures and animate refuse a folder that is not a run, or a run without vtk/, in one line" "$diag"
+# ---- end figures
+
 echo "$passed passed, $failed failed"
 [ "$failed" = 0 ]

@@ -100,6 +100,7 @@ def animate(folder):
         written.append(os.path.join(out, "animation.mp4"))
         animation.save(written[1], writer=manimation.FFMpegWriter(fps=FPS), dpi=DPI)
     plt.close(fig)
+    suite.list_figures(written)
     return written
 
 

@@ -200,6 +200,7 @@ def main():
     written = [path for run in runs for path in draw(run)]
     if len(runs) > 1:
         written.append(compare_contact(runs))
+    suite.list_figures(written)
     for path in written:
         print(path)
 

@@ -712,6 +712,25 @@ def pyplot(overrides=None):
     return plt
 
 
+FIGURES_LIST = "figures.list"
+FIGURES_SIGNATURE = "# figures.list: the figures plots/ of this suite drew here; they go with the run's results"
+
+
+def list_figures(paths):
+    """Name the figures drawn into a run folder's figures/ in its figures.list, which
+    edp/plugins/runtools.cpp reads: a run that replaces the folder removes them with it (any
+    other file there keeps the folder from being replaced)."""
+    for out in sorted({os.path.dirname(path) for path in paths}):
+        listed = os.path.join(out, FIGURES_LIST)
+        names = set()
+        if os.path.isfile(listed):
+            lines = read_lines(listed)
+            names = set(lines[1:]) if lines and lines[0] == FIGURES_SIGNATURE else set()
+        names |= {os.path.basename(path) for path in paths if os.path.dirname(path) == out}
+        with open(listed, "w") as f:
+            f.write("\n".join([FIGURES_SIGNATURE] + sorted(names)) + "\n")
+
+
 def save(fig, out, name, tight_layout=True):
     """Write the figure to OUT/NAME.png (OUT made if needed), close it, return the path."""
     import matplotlib.pyplot as plt

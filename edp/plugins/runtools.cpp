@@ -322,13 +322,39 @@ bool runFileName(const std::string &name) {
   const size_t slash = name.find('/');
   return slash == std::string::npos ? plainName(name) : name.substr(0, slash) == seriesFolder && plainName(name.substr(slash + 1));
 }
+// The figures that plots/run_figures.py and plots/animate.py draw into OUT/figures/, listed by
+// them in OUT/figures/figures.list (a signature line, then the names): they go with their run.
+const char *figuresFolder = "figures", *figuresList = "figures.list";
+const char *figuresSignature = "# figures.list: the figures plots/ of this suite drew here; they go with the run's results";
+std::set<std::string> figuresListed(const std::string &folder) {
+  std::set<std::string> listed;
+  std::ifstream f(folder + "/" + figuresFolder + "/" + figuresList);
+  std::string line;
+  if (!f || !std::getline(f, line) || line != figuresSignature) return listed;
+  while (std::getline(f, line)) if (plainName(line) && line != figuresList) listed.insert(line);
+  return listed;
+}
+void removeFigures(const std::string &folder) {
+  const std::string figures = folder + "/" + figuresFolder;
+  for (const std::string &name : figuresListed(folder)) unlink((figures + "/" + name).c_str());
+  unlink((figures + "/" + figuresList).c_str());
+  rmdir(figures.c_str());                          // only if empty
+}
+
 // the files of a folder as run.complete names them (files of vtk/ as "vtk/NAME"); foreign gets
-// what a run never writes (other folders, folders inside vtk/)
+// what a run never writes (other folders, folders inside vtk/, files in figures/ that its
+// figures.list does not name)
 bool runFilesOf(const std::string &folder, std::vector<std::string> &files, std::string &foreign) {
   std::vector<std::pair<std::string, bool>> entries, inside;
   if (!listFolder(folder, entries)) return false;
   for (auto &e : entries) {
     if (!e.second) { files.push_back(e.first); continue; }
+    if (e.first == figuresFolder && listFolder(folder + "/" + e.first, inside)) {
+      const std::set<std::string> drawn = figuresListed(folder);
+      for (auto &f : inside)
+        if (f.second || (f.first != figuresList && !drawn.count(f.first))) foreign += (foreign.empty() ? "" : ", ") + e.first + "/" + f.first;
+      continue;
+    }
     if (e.first != seriesFolder || !listFolder(folder + "/" + e.first, inside)) { foreign += (foreign.empty() ? "" : ", ") + e.first; continue; }
     for (auto &f : inside)
       if (f.second) foreign += (foreign.empty() ? "" : ", ") + e.first + "/" + f.first;
@@ -543,6 +569,7 @@ void removeReplaced(const std::string &replaced) {
   if (completeListing(replaced, listed)) unlink((replaced + "/" + completeMarker).c_str());   // first: never complete-looking
   for (const std::string &name : listed) unlink((replaced + "/" + name).c_str());
   rmdir((replaced + "/" + seriesFolder).c_str());  // only if empty
+  removeFigures(replaced);
   if (rmdir(replaced.c_str()) == 0) return;
   std::vector<std::pair<std::string, bool>> entries;
   if (errno != ENOTEMPTY && errno != EEXIST) {

@@ -122,8 +122,9 @@ main_job() {
   mkdir -p "$results"
   log="$results/.log.$$"                         # this job's own, removed at its end
   local problem eps i
-  for problem in original penalty; do
-    run_logged "paper scene, $problem" -scene paper -problem "$problem" -out "$results/paper-$problem"
+  for problem in original penalty; do                # (the original's fields every 5 steps, for ParaView)
+    run_logged "paper scene, $problem" -scene paper -problem "$problem" -vtk "$([ "$problem" = original ] && echo 5 || echo 0)" \
+      -out "$results/paper-$problem"
   done
   for i in "${!EPS_STUDY[@]}"; do
     eps="${EPS_STUDY[$i]}"
@@ -145,6 +146,8 @@ main_job() {
   rm -f "$log"
   "$PYTHON" "$here/plots/tables.py" --results "$results"
   "$PYTHON" "$here/plots/figures.py" --results "$results" --out "$results/figures"
+  "$PYTHON" "$here/plots/run_figures.py" "$results/paper-original" > /dev/null   # any run's figures, the animation
+  "$PYTHON" "$here/plots/animate.py" "$results/paper-original" > /dev/null
   echo "run.sh: results in $results (zones: $results/zones.txt, eps study: $results/eps-study/eps_study.txt), figures in $results/figures"
 }
 

@@ -797,11 +797,13 @@ for flag in -help -h --help; do
   rc=0; solve -scene column "$flag" > "$work/help.txt" 2> "$work/help.err" || rc=$?
   [ "$rc" = 0 ] && [ ! -s "$work/help.err" ] || { echo "$flag: exit $rc" >> "$diag"; cat "$work/help.err" >> "$diag"; status=1; }
 done
-# every option of edp/options.txt and of the README's table, with the scene's default
-for name in $(awk '!/^#/ && NF >= 5 && $1 != "when" { print $1 }' edp/options.txt) \
-            $(grep -o '^| `-[a-zA-Z]*`' README.md | tr -d '|` '); do
-  grep -q -- "^  -${name#-}  " "$work/help.txt" || { echo "-help does not list ${name}" >> "$diag"; status=1; }
+# every option of edp/options.txt, and the same options as the README's table, with the scene's default
+for name in $(awk '!/^#/ && NF >= 5 && $1 != "when" { print $1 }' edp/options.txt); do
+  grep -q -- "^  -${name}  " "$work/help.txt" || { echo "-help does not list -${name}" >> "$diag"; status=1; }
 done
+readme_options=$(awk -F'|' '/^\| `-/ { print $2 }' README.md | grep -o -- '`-[a-zA-Z]*`' | tr -d '`' | sort | tr '\n' ' ')
+help_options=$(grep -o -- '^  -[a-zA-Z]*' "$work/help.txt" | tr -d ' ' | sort | tr '\n' ' ')
+[ "$readme_options" = "$help_options" ] || { echo "README's table: $readme_options; -help: $help_options" >> "$diag"; status=1; }
 grep -q -- '^  -nx  8  ' "$work/help.txt" || { echo "-help does not give the column scene's nx 8" >> "$diag"; status=1; }
 report $status "-help, -h, --help list every option (edp/options.txt, the README's table) with the scene's defaults, exit 0" "$diag"
 

@@ -843,6 +843,14 @@ grep -v '^#' edp/scenes/column.scene > "$work/quiet.scene"; echo "quiet on" >> "
 expect_failure "a flag given a value in a scene" 3 "cannot read 'quiet on'" -scene "$work/quiet.scene"
 expect_failure "-every below 0" 2 "option -every = -1 is out of range" -every -1
 
+# ---- the lab sheet's commands run as written (docs/lab.md)
+# tests/lab.sh runs every ```sh block of the sheet in order, in one shell with a fresh
+# temporary $LAB, then checks the numbers the sheet states against the runs it made.
+diag="$work/lab.diag"
+bash tests/lab.sh "$work/lab.log" > "$diag" 2>&1
+report $? "docs/lab.md: every command of the lab sheet runs, and gives the numbers the sheet states" "$diag"
+# ---- end lab
+
 # ---- reproducibility: the same options give byte-identical outputs (timings aside)
 diag="$work/repro.diag"; : > "$diag"; status=0
 rm -rf "$work/repro" "$work/repro.first"

@@ -1,0 +1,172 @@
+#!/usr/bin/env bash
+# lab.sh: run the commands of docs/lab.md as a student types them, then check the numbers
+# the sheet states.
+#   bash tests/lab.sh [LOG]      (from anywhere; tests/run_tests.sh runs it)
+# Every ```sh block of docs/lab.md runs, in order, in one bash (-e, -o pipefail, as one
+# student's shell: the sheet's variables and functions carry over), from the repository
+# root, with TMPDIR a fresh temporary folder: the sheet's `export LAB=$(mktemp -d)` makes
+# its folder there, and the whole folder is removed at the end. A command that fails stops
+# the run with the number and the first line of its block. Blocks marked otherwise
+# (```text, ```) are not run; an indented ```sh block, or one marked bash or shell, is
+# refused, so that no command of the sheet goes untested. The output of the commands goes
+# to LOG (default: the temporary folder's, removed). Exit 0 when every block ran and every
+# check passed; otherwise one line per problem on stderr and exit 1.
+set -u
+root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
+sheet="$root/docs/lab.md"
+tmp="$(mktemp -d)" || exit 1
+trap 'rm -rf "$tmp"' EXIT
+log="${1:-$tmp/lab.log}"
+case "$log" in /*) ;; *) log="$PWD/$log" ;; esac
+: > "$log" || exit 1
+
+# The script: a prologue, then each block preceded by the assignment of its number and
+# first line (shell-quoted), then a line that hands $LAB back.
+cat > "$tmp/lab-script.sh" <<'EOF'
+set -eo pipefail
+lab_block=0 lab_first='(before the first block)'
+trap 'lab_rc=$?; [ "$lab_rc" = 0 ] || echo "block $lab_block of docs/lab.md failed (exit $lab_rc): $lab_first" >&2' EXIT
+EOF
+awk -v q="'" '
+  function quote(s) { gsub(q, q "\\" q q, s); return q s q }
+  /^[ \t]+```[ \t]*(sh|bash|shell)[ \t]*$/ { print "lab.sh: docs/lab.md:" NR ": an indented ```sh block would not be run: unindent it" > "/dev/stderr"; bad = 1; next }
+  !inside && /^```[ \t]*(bash|shell|console)[ \t]*$/ { print "lab.sh: docs/lab.md:" NR ": mark the commands to run ```sh (or ```text for the rest)" > "/dev/stderr"; bad = 1; next }
+  !inside && /^```sh[ \t]*$/ { inside = 1; blocks++; first = ""; start = NR; next }
+  inside && /^```/ { inside = 0; if (first == "") { print "lab.sh: docs/lab.md:" start ": an empty ```sh block" > "/dev/stderr"; bad = 1 }; next }
+  inside {
+    if (first == "" && $0 !~ /^[ \t]*(#|$)/) { first = $0; print "lab_block=" blocks " lab_first=" quote(first) }
+    print; next
+  }
+  END {
+    if (inside) { print "lab.sh: docs/lab.md:" start ": a ```sh block is not closed" > "/dev/stderr"; bad = 1 }
+    if (!blocks) { print "lab.sh: docs/lab.md has no ```sh block" > "/dev/stderr"; bad = 1 }
+    exit bad
+  }' "$sheet" >> "$tmp/lab-script.sh" || exit 1
+echo 'printf %s "$LAB" > "$LAB_PATH_FILE"' >> "$tmp/lab-script.sh"
+
+cd "$root" || exit 1
+# what git sees in the work tree (ignored files aside), to check that the sheet writes
+# nothing into the repository
+repository_state() { git status --porcelain --untracked-files=all 2>/dev/null || true; }
+before="$(repository_state)"
+export TMPDIR="$tmp" LAB_PATH_FILE="$tmp/lab.path"
+unset LAB
+if ! bash "$tmp/lab-script.sh" >> "$log" 2>&1 < /dev/null; then
+  grep '^block [0-9]* of docs/lab.md failed' "$log" | tail -n 1 | sed 's/^/lab.sh: /' >&2
+  tail -n 6 "$log" | grep -v '^block [0-9]* of docs/lab.md failed' | sed 's/^/  | /' >&2
+  exit 1
+fi
+if [ "$(repository_state)" != "$before" ]; then
+  echo "lab.sh: the sheet's commands changed the repository (git status):" >&2
+  diff <(printf '%s\n' "$before") <(repository_state) | sed 's/^/  | /' >&2
+  exit 1
+fi
+LAB="$(cat "$LAB_PATH_FILE")"
+case "$LAB" in "$tmp"/?*) ;; *) echo "lab.sh: the sheet's LAB is '$LAB', not a fresh folder under TMPDIR (export LAB=\$(mktemp -d))" >&2; exit 1 ;; esac
+
+# ---- the numbers docs/lab.md states, from the runs it made
+problems=0
+problem() { echo "lab.sh: docs/lab.md says $1" >&2; problems=$((problems + 1)); }
+key() { awk -v k="$2" '$1 == k { print $2 }' "$LAB/$1/summary.txt" 2>/dev/null; }
+# keys RUN KEY=VALUE ...: keys of RUN/summary.txt
+keys() {
+  local run="$1" pair; shift
+  for pair in "$@"; do
+    [ "$(key "$run" "${pair%%=*}")" = "${pair#*=}" ] || problem "${pair%%=*} ${pair#*=} for \$LAB/$run (the run has '$(key "$run" "${pair%%=*}")')"
+  done
+}
+# column RUN FILE NAME LOW HIGH [ROWS]: every value of a named column (of the last ROWS rows) is in [LOW, HIGH]
+column() {
+  local run="$1" file="$2" name="$3" low="$4" high="$5" rows="${6:-0}"
+  awk -v name="$name" -v low="$low" -v high="$high" -v rows="$rows" '
+    /^#/ { header = $0; next }
+    { line[++n] = $0 }
+    END {
+      m = split(substr(header, 3), column, " "); for (j = 1; j <= m; j++) if (column[j] == name) c = j
+      if (!c || !n) exit 1
+      for (i = (rows > 0 && rows < n ? n - rows + 1 : 1); i <= n; i++) { split(line[i], f, " "); if (!(f[c] + 0 >= low && f[c] + 0 <= high)) exit 1 }
+    }' "$LAB/$run/$file" 2>/dev/null || problem "$name in [$low, $high] in \$LAB/$run/$file${6:+ (last $6 rows)}"
+}
+said() { grep -qF -- "$1" "$log" || problem "the output shows '$1'"; }
+zones() { keys "$1" zone_free="$2" zone_damped_slip="$3" zone_damped_stick="$4" zone_bound_slip="$5" zone_bound_stick="$6"; }
+
+# 1. the tour
+zones free 33 0 0 0 0
+column free contact.txt p_nu -1e-13 1e-13
+column free contact.txt v_nu -10 0
+column free contact.txt lambda_tau 0 0
+zones damped 0 8 1 0 0
+column damped contact.txt v_nu 0.01999999835 0.01999999845
+column damped contact.txt p_nu 0.999999915 0.999999925
+zones bound 0 0 0 8 1
+column bound contact.txt lambda_nu 7.4999999 7.5000001
+column bound contact.txt v_nu 0.04999999999 0.05000000001
+column bound contact.txt p_nu 9.9999999 10.0000001
+[ "$(awk '!/^#/ && $8 > 0 { printf "%g", $2; exit }' "$LAB/bound/contact_history.txt" 2>/dev/null)" = 0.25 ] || problem "the column's nodes go from damped to the bound at t = 0.25"
+zones stick 0 0 9 0 0
+column stick contact.txt friction_bound 0.39 0.42
+column stick contact.txt v_tau -1e-16 1e-16
+column stick contact.txt lambda_tau 0.315 0.325 1
+column stick contact.txt friction_bound 0.415 0.425 1
+zones paper 1 7 0 14 11
+column paper contact.txt p_nu 0 10.3
+# the zone map: no node at the bound at t = 0.2, the first ones at the right end at t = 0.25
+[ "$(awk '!/^#/ && ($2 == 0.2 || $2 == 0.25) { printf "%g %d %s; ", $2, $8 + $9, ($10 == "nan" ? "nan" : ($10 + 0 > 1.9 ? "right" : $10)) }' "$LAB/paper/contact_history.txt" 2>/dev/null)" = "0.2 0 nan; 0.25 2 right; " ] \
+  || problem "the first nodes reach the bound at t = 0.25, at the right end"
+column penalty contact.txt v_nu 0.050149849 0.050149851
+column penalty contact.txt lambda_nu 7.49250 7.49252
+keys penalty check_constraint=0 check_complementarity=0
+# 2. penalty against multiplier
+for row in "1e-2 5.000e-02" "1e-3 7.308e-03" "1e-4 7.659e-04" "1e-5 7.695e-05" "1e-6 7.699e-06" "1e-8 7.700e-08" "1e-10 7.700e-10"; do
+  eps="${row% *}"
+  grep -q "penalty-$eps  .* ${row#* }  " "$log" || problem "max|dv_nu| ${row#* } at eps = $eps"
+done
+zones eps/penalty-1e-2 1 6 0 13 13
+column eps/penalty-1e-2 contact.txt v_nu 0.099 0.1 1
+for eps in 1e-3 1e-4 1e-5 1e-6 1e-8 1e-10; do zones "eps/penalty-$eps" 1 7 0 14 11; done
+for run in paper eps/penalty-1e-2 eps/penalty-1e-3 eps/penalty-1e-4 eps/penalty-1e-5 eps/penalty-1e-6 eps/penalty-1e-8 eps/penalty-1e-10; do
+  n="$(key "$run" iterations_total)"; [ -n "$n" ] && [ "$n" -ge 38 ] && [ "$n" -le 41 ] || problem "38 to 41 iterations for \$LAB/$run (it has '$n')"
+done
+keys paper iterations_total=40
+keys eps/penalty-1e-4 iterations_total=41
+keys eps/literal-1e-4 iterations_total=41 zone_damped_slip=7 zone_bound_slip=14 zone_bound_stick=11
+[ ! -e "$LAB/eps/literal-1e-6" ] || problem "the literal row at eps = 1e-6 fails and writes nothing"
+said "error: step 13 (t = 0.65): the contact solver did not converge after 50 iterations (iteration cap reached), residual 136.331"
+# 3. Newton against the fixed point
+[ "$(awk '!/^#/ { printf "%s ", $3 }' "$LAB/solvers/newton/history.txt" 2>/dev/null)" = "4 2 " ] || problem "Newton takes 4 then 2 iterations"
+[ "$(awk '!/^#/ { printf "%s ", $3 }' "$LAB/solvers/fixedpoint/history.txt" 2>/dev/null)" = "10770 10769 " ] || problem "the fixed point takes 10770 then 10769 iterations"
+keys solvers/fixedpoint-r0.03 iterations_max=3592 iterations_total=7184
+awk 'NF == 9 && $1 ~ /\/solvers\/fixedpoint/ { n++; if (!($8 + 0 < 1e-11)) bad = 1 } END { exit bad || n != 2 }' "$log" \
+  || problem "the fixed point agrees with Newton to about 1e-12"
+[ ! -e "$LAB/solvers/fixedpoint-r0.03-T0.2" ] || problem "the fixed point with -r 0.03 fails at step 4 of T = 0.2"
+said "error: step 4 (t = 0.2): the contact solver did not converge after 100000 iterations (iteration cap reached), residual 0.012402"
+said "  iteration 1: residual 1.118e-01; changed: free -32, damped +32"
+said "  iteration 1: residual 3.768e-01; changed: damped -15, bound +15"
+said "step 6/8 (t = 0.3): 3 iterations"
+said "  iteration 2: residual 5.218e-04; changed: none"
+said "  iteration 3: residual 1.199e-07; changed: none"
+said "  iteration 4: residual 1.567e-14; changed: none"
+# 4. the exercises
+for tol in 1e-6 1e-10 1e-12; do keys "ex1/linear-tol$tol" iterations_total=40; done
+keys ex1/power-tol1e-6 iterations_total=55 newton_factorizations=55
+keys ex1/power-tol1e-10 iterations_total=67 newton_factorizations=67
+keys ex1/power-tol1e-12 iterations_total=71 newton_factorizations=71
+zones ex2/load-2.5 1 17 15 0 0
+zones ex2/load-10 1 7 0 14 11
+zones ex2/load-40 1 3 0 27 2
+column ex2/load-2.5 contact_history.txt normal_force 3.28 3.29 1
+[ "$(tail -n 1 "$LAB/ex2/load-2.5/contact_history.txt" 2>/dev/null | awk '{ print $10 }')" = nan ] || problem "x_B is nan at load 2.5"
+column ex2/load-10 contact_history.txt normal_force 13.85 13.86 1
+column ex2/load-40 contact_history.txt normal_force 60.50 60.51 1
+grep -q 'ex3/dt-0.05 - dt-0.025 .* 1\.20$' "$log" && grep -q 'ex3/dt-0.025 - dt-0.0125 .* 1\.12$' "$log" || problem "the orders 1.20 then 1.12"
+for dt in 0.1 0.05 0.025 0.0125; do zones "ex3/dt-$dt" 1 7 0 14 11; done
+# 5. seeing a run
+[ "$(ls "$LAB/see/vtk" 2>/dev/null | grep -c '^fields_[0-9]*\.vtu$')" = 11 ] || problem "11 frames in \$LAB/see/vtk"
+[ -s "$LAB/see/figures/animation.gif" ] || problem "\$LAB/see/figures/animation.gif"
+awk '!/^#/ { u = sqrt($3 * $3 + $4 * $4); if (u > max) max = u } END { exit !(max > 0.14 && max < 0.145) }' "$LAB/see/fields.txt" 2>/dev/null \
+  || problem "the displacements reach 0.14 m in \$LAB/see"
+for file in paper/figures/contact_at_T.png paper/figures/zone_map.png eps/penalty-1e-2/figures/compare_contact.png; do
+  [ -s "$LAB/$file" ] || problem "\$LAB/$file"
+done
+
+[ "$problems" = 0 ]

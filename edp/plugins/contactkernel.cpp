@@ -55,7 +55,8 @@
 //       residual at (c, m); target = the stresses the pieces give
 //   contactLawRelations(real[int] c, real[int] a, real[int] d, real[int] h, int[int] slot)
 //   contactLawMerit()   the 2-norm of the weighted residual of the last evaluation
-//   contactNewtonLog(int it, real residual)   -verbose: the log line of iteration it
+//   contactNewtonLog(int it, real residual, real step)   -verbose: the log line of iteration it
+//       (step: the line search's accepted step, 1 without a cut)
 //   contactNewtonGuard(int it)   the cycle guard (halves r on a repeat); returns 1 if it did
 //   contactNewtonAccept(real merit, real step, int cut)   the line search's test; 1 = accept
 //   contactNewtonEnd()   restores r after a step
@@ -878,7 +879,7 @@ void endStep() {
 // each piece at the start of the step. Every solver calls it (the script ones through
 // contactNewtonLog), after the law's evaluate() of the iterate.
 std::vector<int> loggedPieces;
-void logIteration(int it, double residual) {
+void logIteration(int it, double residual, double step = 1) {
   if (!SP.verbose) return;
   static const char *pieceName[] = {"free", "damped", "bound", "stick", "slip"};
   int entered[5] = {0, 0, 0, 0, 0}, left[5] = {0, 0, 0, 0, 0};
@@ -891,7 +892,9 @@ void logIteration(int it, double residual) {
   std::string line = "  iteration " + std::to_string(it);
   char number[32];
   std::snprintf(number, sizeof number, "%.3e", residual);
-  line += std::string(first ? " (from the previous step's solution)" : "") + ": residual " + number + (first ? "; slots:" : "; changed:");
+  line += std::string(first ? " (from the previous step's solution)" : "") + ": residual " + number;
+  if (step < 1) line += " (line search: step " + std::to_string((int)std::lround(1 / step)) + " times shorter)";
+  line += first ? "; slots:" : "; changed:";
   int shown = 0;
   for (int k = 0; k < 5; k++) {
     if (first && entered[k]) line += std::string(shown++ ? ", " : " ") + pieceName[k] + " " + std::to_string(entered[k]);
@@ -939,7 +942,7 @@ long newton(KN<double> *const &pcFree, KN<double> *const &pc, KN<double> *const 
     }
     merit = L.merit();
     it++;
-    logIteration(it, residual);
+    logIteration(it, residual, step);
     if (residual <= SP.tol || it >= SP.maxit || std::isnan(residual) || std::isinf(residual)) break;
   }
   endStep();
@@ -975,7 +978,11 @@ long lawRelations(KN<double> *const &pc, KN<double> *const &pa, KN<double> *cons
 }
 
 double lawMerit() { return L.merit(); }
-long newtonLog(const long &it, const double &residual) { requireNodes("contactNewtonLog"); logIteration((int)it, residual); return 0; }
+long newtonLog(const long &it, const double &residual, const double &step) {
+  requireNodes("contactNewtonLog");
+  logIteration((int)it, residual, step);
+  return 0;
+}
 long newtonGuard(const long &it) { requireNodes("contactNewtonGuard"); return guard((int)it); }
 long newtonAccept(const double &merit, const double &step, const long &cut) {
   double worst = 0;
@@ -1050,7 +1057,7 @@ static void Load_Init() {
   Global.Add("contactLawRelations", "(", new OneOperator5_<long, KN<double> *, KN<double> *, KN<double> *, KN<double> *, KN<long> *>(lawRelations));
   Global.Add("contactLawMerit", "(", new OneOperator0<double>(lawMerit));
   Global.Add("contactNewtonGuard", "(", new OneOperator1_<long, long>(newtonGuard));
-  Global.Add("contactNewtonLog", "(", new OneOperator2_<long, long, double>(newtonLog));
+  Global.Add("contactNewtonLog", "(", new OneOperator3_<long, long, double, double>(newtonLog));
   Global.Add("contactNewtonAccept", "(", new OneOperator3_<long, double, double, long>(newtonAccept));
   Global.Add("contactNewtonEnd", "(", new OneOperator0<long>(newtonEnd));
   Global.Add("contactKernelCounters", "(", new OneOperator1_<long, KN<double> *>(counters));

@@ -140,7 +140,7 @@ awk 'NF == 9 && $1 ~ /\/solvers\/fixedpoint/ { n++; if (!($8 + 0 < 1e-11)) bad =
   || problem "the fixed point agrees with Newton to about 1e-12"
 [ ! -e "$LAB/solvers/fixedpoint-r0.03-T0.2" ] || problem "the fixed point with -r 0.03 fails at step 4 of T = 0.2"
 said "error: step 4 (t = 0.2): the contact solver did not converge after 100000 iterations (iteration cap reached), residual 0.012402"
-said "  iteration 1: residual 1.118e-01; changed: free -32, damped +32"
+said "  iteration 1: residual 1.118e-01 (line search: step 1024 times shorter); changed: free -32, damped +32"
 said "  iteration 1: residual 3.768e-01; changed: damped -15, bound +15"
 said "step 6/8 (t = 0.3): 3 iterations"
 said "  iteration 2: residual 5.218e-04; changed: none"

@@ -828,7 +828,7 @@ report $status "-vtk N: fields.pvd and .vtu frames read back by VTK equal fields
 diag="$work/log.diag"; : > "$diag"; status=0
 rm -rf "$work/log"
 solve -scene column -nx 8 -T 0.2 -dt 0.05 -verbose -out "$work/log" > /dev/null 2> "$work/log.err" || status=1
-[ "$(grep -c '^step [0-9]*/4 (t = ' "$work/log.err")" = 4 ] && grep -q '^  iteration 1: residual .*; changed: .*bound +9' "$work/log.err" \
+[ "$(grep -c '^step [0-9]*/4 (t = ' "$work/log.err")" = 4 ] && grep -q '^  iteration 1: residual .*; changed: .*bound +9' "$work/log.err" && grep -q '^Newton log: 9 normal slots .* and 8 tangential' "$work/log.err" \
   || { echo "-verbose:" >> "$diag"; cat "$work/log.err" >> "$diag"; status=1; }
 # a run of more than 2 s shows its progress about once a second, on stderr; -quiet none
 rm -rf "$work/log"

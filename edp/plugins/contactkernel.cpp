@@ -876,11 +876,21 @@ void endStep() {
 
 // -verbose: one line an iteration on the standard error, the residual and how many slots entered
 // (+) or left (-) each piece of the law since the line before; iteration 0 gives the count of
-// each piece at the start of the step. Every solver calls it (the script ones through
-// contactNewtonLog), after the law's evaluate() of the iterate.
+// each piece at the start of the step (the previous step's multipliers with this step's load).
+// Every solver calls it (the script ones through contactNewtonLog), after the law's evaluate()
+// of the iterate; the first call says what the slots are.
 std::vector<int> loggedPieces;
+bool logExplained = false;
 void logIteration(int it, double residual, double step = 1) {
   if (!SP.verbose) return;
+  if (!logExplained) {
+    int normal = 0;
+    for (size_t j = 0; j < L.piece.size(); j++) normal += L.normal[j] != 0;
+    std::fprintf(stderr, "Newton log: %d normal slots (pieces free, damped, bound) and %d tangential ones (stick, slip; "
+                 "a node with a fixed velocity component has none); per iteration, the slots that entered (+) or "
+                 "left (-) each piece\n", normal, (int)L.piece.size() - normal);
+    logExplained = true;
+  }
   static const char *pieceName[] = {"free", "damped", "bound", "stick", "slip"};
   int entered[5] = {0, 0, 0, 0, 0}, left[5] = {0, 0, 0, 0, 0};
   const bool first = it == 0 || loggedPieces.size() != L.piece.size();
@@ -892,8 +902,10 @@ void logIteration(int it, double residual, double step = 1) {
   std::string line = "  iteration " + std::to_string(it);
   char number[32];
   std::snprintf(number, sizeof number, "%.3e", residual);
-  line += std::string(first ? " (from the previous step's solution)" : "") + ": residual " + number;
-  if (step < 1) line += " (line search: step " + std::to_string((int)std::lround(1 / step)) + " times shorter)";
+  line += std::string(first ? " (the previous step's multipliers, this step's load)" : "") + ": residual " + number;
+  if (step < 1. / 1000)
+    line += " (line search: the merit did not fall at any of 10 cuts; the step 1024 times shorter is taken)";
+  else if (step < 1) line += " (line search: step " + std::to_string((int)std::lround(1 / step)) + " times shorter)";
   line += first ? "; slots:" : "; changed:";
   int shown = 0;
   for (int k = 0; k < 5; k++) {
@@ -919,11 +931,11 @@ long newton(KN<double> *const &pcFree, KN<double> *const &pc, KN<double> *const 
   for (int j = 0; j < nc; j++) { cFree[j] = cFreeK[j]; c[j] = cK[j]; m[j] = mK[j]; }
   // merit at the previous stresses with this step's cFree; first pieces from the previous solution
   velocities(cFree.data(), m.data(), cStart.data());
-  L.evaluate(cStart.data(), m.data());
+  const double startResidual = L.evaluate(cStart.data(), m.data());
+  logIteration(0, startResidual);
   double merit = L.merit();
   double residual = L.evaluate(c.data(), m.data());
   int it = 0;
-  logIteration(it, residual);
   while (true) {
     L.relations(c.data());
     guard(it);

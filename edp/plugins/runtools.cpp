@@ -326,12 +326,19 @@ bool runFileName(const std::string &name) {
 // them in OUT/figures/figures.list (a signature line, then the names): they go with their run.
 const char *figuresFolder = "figures", *figuresList = "figures.list";
 const char *figuresSignature = "# figures.list: the figures plots/ of this suite drew here; they go with the run's results";
+// the only names the tools draw (the same list as FIGURE_NAMES in plots/suite.py): a list that
+// names any other file is not followed
+bool drawnFigure(const std::string &name) {
+  static const std::set<std::string> drawn = {"contact_at_T.png", "histories.png", "deformed.png", "zone_map.png",
+                                               "compare_contact.png", "animation.gif", "animation.mp4"};
+  return drawn.count(name) > 0;
+}
 std::set<std::string> figuresListed(const std::string &folder) {
   std::set<std::string> listed;
   std::ifstream f(folder + "/" + figuresFolder + "/" + figuresList);
   std::string line;
   if (!f || !std::getline(f, line) || line != figuresSignature) return listed;
-  while (std::getline(f, line)) if (plainName(line) && line != figuresList) listed.insert(line);
+  while (std::getline(f, line)) if (drawnFigure(line)) listed.insert(line);
   return listed;
 }
 void removeFigures(const std::string &folder) {
@@ -567,10 +574,22 @@ void syncFolder(const std::string &path) {
 void removeReplaced(const std::string &replaced) {
   std::set<std::string> listed;
   if (completeListing(replaced, listed)) unlink((replaced + "/" + completeMarker).c_str());   // first: never complete-looking
-  for (const std::string &name : listed) unlink((replaced + "/" + name).c_str());
+  std::string stuck, stuckWhy;                     // listed files that could not be removed
+  for (const std::string &name : listed)
+    if (unlink((replaced + "/" + name).c_str()) != 0 && errno != ENOENT) {
+      if (stuck.empty()) stuckWhy = errorText();
+      stuck += (stuck.empty() ? "" : ", ") + name;
+    }
   rmdir((replaced + "/" + seriesFolder).c_str());  // only if empty
   removeFigures(replaced);
   if (rmdir(replaced.c_str()) == 0) return;
+  if (!stuck.empty()) {
+    std::string kept = RF.out + ".kept." + std::to_string(getpid());
+    if (syscall(SYS_renameat2, AT_FDCWD, replaced.c_str(), AT_FDCWD, kept.c_str(), 1 /* RENAME_NOREPLACE */) != 0) kept = replaced;
+    toStderr("note: the earlier results could not all be removed (" + stuck + ": " + stuckWhy + "); they are kept in "
+             + kept + "; the new ones are in " + RF.out + "\n");
+    return;
+  }
   std::vector<std::pair<std::string, bool>> entries;
   if (errno != ENOTEMPTY && errno != EEXIST) {
     toStderr("note: the earlier results could not all be removed from " + replaced + " (" + errorText() + "); the new ones are in "

@@ -853,6 +853,18 @@ bash tests/lab.sh "$work/lab.log" > "$diag" 2>&1
 report $? "docs/lab.md: every command of the lab sheet runs, and gives the numbers the sheet states" "$diag"
 # ---- end lab
 
+# ---- edp/compare.edp (the benchmark's errors): a run against itself is 0, against a finer mesh small
+diag="$work/compare.diag"; : > "$diag"; status=0
+rm -rf "$work/cmp-a" "$work/cmp-b"
+solve -nx 16 -ny 8 -dt 0.1 -out "$work/cmp-a" >> "$diag" 2>&1 || status=1
+solve -nx 32 -ny 16 -dt 0.1 -out "$work/cmp-b" >> "$diag" 2>&1 || status=1
+self=$("${FREEFEM[@]}" edp/compare.edp -a "$work/cmp-a" -ref "$work/cmp-a" 2>> "$diag")
+other=$("${FREEFEM[@]}" edp/compare.edp -a "$work/cmp-a" -ref "$work/cmp-b" 2>> "$diag")
+echo "self: $self; against 32x16: $other" >> "$diag"
+awk '{ exit !($1 == "error_L2" && $2 == 0 && $6 == 0) }' <<< "$self" || status=1
+awk '{ exit !($1 == "error_L2" && $2 > 0 && $2 < 0.1 * $4) }' <<< "$other" || status=1
+report $status "edp/compare.edp: a run against itself gives 0, against a finer mesh a small error" "$diag"
+
 # ---- reproducibility: the same options give byte-identical outputs (timings aside)
 diag="$work/repro.diag"; : > "$diag"; status=0
 rm -rf "$work/repro" "$work/repro.first"

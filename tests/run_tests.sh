@@ -897,7 +897,7 @@ refused 2 "has no vtk/ time series: run with -vtk N" ./run.sh animate "$cylinder
 refused 2 "no run folder 'myrun' and no figure named myrun \(figures: fig2 " ./run.sh figures myrun
 report $status "figures and animate refuse a folder that is not a run, or a run without vtk/, in one line" "$diag"
 
-# The safety of figures/ (docs/figures.md, "The run folder after this"), on copies of the paper run.
+# The safety of figures/ (docs/figures.md, "The figures/ folder"), on copies of the paper run.
 figs=(plots/run_figures.py) anim=(plots/animate.py)
 snapshot() { (cd "$1" 2>/dev/null && ls -A && md5sum -- * 2>/dev/null) || echo "no $1"; }   # the folder as it is
 unchanged() { # unchanged FOLDER SNAPSHOT WHAT: the folder is as the snapshot says

@@ -5,14 +5,19 @@
 
 Reads RUN_DIR/vtk/fields.pvd and its .vtu files (at most FRAMES of them, evenly spread,
 the first and the last included) and writes RUN_DIR/figures/animation.gif (Pillow), and
-animation.mp4 too when ffmpeg is on the PATH. Each frame: the deformed mesh (one
-magnification factor for every frame, given in the title) coloured by the von Mises stress
-(by |v| where the files have no von_mises) on one scale for every frame, the undeformed
-outline, the contact nodes coloured by zone (docs/figures.md). Prints the files written.
+animation.mp4 too when ffmpeg is on the PATH. Each frame, shaped to the body: the deformed
+mesh (one magnification factor for every frame, given in the title) coloured by the von
+Mises stress (by |v| where the files have no von_mises) on one scale for every frame, the
+undeformed outline, the contact nodes coloured by zone, x [m] and y [m] (docs/figures.md).
+Every frame is read and checked first (a .vtu that is not one, nan or inf in a value drawn,
+a zone code out of range: refused, naming the file); the files are written all or nothing
+(suite.FigureFiles), never over a file of figures/ that figures.list does not list. Prints
+the files written.
 """
 import argparse
 import os
 import shutil
+import warnings
 
 import matplotlib.animation as manimation
 import matplotlib.collections as mcollections
@@ -23,7 +28,11 @@ import numpy as np
 import suite
 
 plt = suite.pyplot()
-FRAMES, FPS, DPI = 100, 10, 80          # at most 100 frames, 10 a second, 640 x 400 pixels
+# An animation that a failure ends before it is saved would warn at its deletion; the error
+# message says what went wrong.
+warnings.filterwarnings("ignore", "Animation was deleted without rendering anything")
+FRAMES, FPS, DPI = 100, 10, 80          # at most 100 frames, 10 a second, 80 pixels an inch
+LEGEND = (len(suite.ZONES), 5, 1.5)     # the zones' legend: 5 entries, up to 5 columns of 1.5 inches
 ZONE_COLORS = {zone.code: zone.color for zone in suite.ZONES}
 
 
@@ -37,41 +46,64 @@ def time_series(folder):
     frames = [(series[i][0], suite.read_vtu(series[i][1])) for i in chosen]
     for (_, first), (t, frame) in zip(frames, frames[1:]):
         if not np.array_equal(first.triangles, frame.triangles):
-            raise suite.InputError(f"{folder}/vtk: the mesh at t = {t:g} is not that of t = {frames[0][0]:g}")
+            raise suite.InputError(f"{frame.path}: the mesh at t = {t:g} is not that of {first.path}")
+    for _, vtu in frames:                                         # every value drawn, checked before drawing
+        array(vtu, "u", 2)
+        colour_values(vtu)
+        zones(vtu)
     return frames
 
 
 def array(vtu, name, columns=None):
-    """A point-data array of a frame, or InputError naming the missing one."""
+    """A point-data array of a frame (its first columns), checked to hold finite numbers:
+    InputError naming the .vtu file otherwise."""
     if name not in vtu.point_data:
-        raise suite.InputError(f"a .vtu file has no point data '{name}' (it has {' '.join(vtu.point_data)})")
+        raise suite.InputError(f"{vtu.path}: no point data '{name}' (it has {' '.join(vtu.point_data)})")
     values = vtu.point_data[name]
-    return values if columns is None else values.reshape(len(vtu.xy), -1)[:, :columns]
+    values = values if columns is None else values.reshape(len(vtu.xy), -1)[:, :columns]
+    if not np.isfinite(values).all():
+        raise suite.InputError(f"{vtu.path}: point data '{name}' holds {values[~np.isfinite(values)][0]!r}, "
+                               "not a finite number")
+    return values
+
+
+def zones(vtu):
+    """The zone code of each point of a frame (contact_zone: -1 off Gamma3, else 0..4)."""
+    zone = array(vtu, "contact_zone")
+    bad = ~np.isin(zone, np.arange(-1, len(suite.ZONES)))
+    if bad.any():
+        raise suite.InputError(f"{vtu.path}: contact_zone = {zone[bad][0]:g}, not one of -1..{len(suite.ZONES) - 1}")
+    return zone.astype(int)
 
 
 def colour_values(vtu):
     """The values the body is coloured by: the von Mises stress, or |v| without it."""
     if "von_mises" in vtu.point_data:
-        return vtu.point_data["von_mises"], "von Mises stress [GPa]"
+        return array(vtu, "von_mises"), "von Mises stress [GPa]"
     return np.hypot(*array(vtu, "v", 2).T), "|v| [m/s]"
 
 
 def animate(folder):
     """Write the animation of the run in folder; return the paths written."""
-    frames = time_series(suite.run_folder(folder))
+    out = os.path.join(suite.run_folder(folder), "figures")
+    written = [os.path.join(out, name) for name in ("animation.gif", "animation.mp4")[:2 if shutil.which("ffmpeg") else 1]]
+    files = suite.FigureFiles(written)                  # refuses to draw over a file not ours
+    frames = time_series(folder)
     xy, triangles = frames[0][1].xy, frames[0][1].triangles
     largest = max(np.hypot(*array(vtu, "u", 2).T).max() for _, vtu in frames)
     factor = suite.magnification(np.ptp(xy, axis=0).max(), largest)
     moved = [xy + factor * array(vtu, "u", 2) for _, vtu in frames]
-    low, high = np.min([m.min(axis=0) for m in moved], axis=0), np.max([m.max(axis=0) for m in moved], axis=0)
-    margin = 0.05 * (high - low).max()
     label = colour_values(frames[0][1])[1]
     norm = mcolors.Normalize(0.0, max(colour_values(vtu)[0].max() for _, vtu in frames) or 1.0)
-    fig, ax = plt.subplots(figsize=(8, 5))
-    fig.colorbar(plt.cm.ScalarMappable(norm=norm, cmap="viridis"), ax=ax, label=label, shrink=0.8)
-    fig.legend(handles=suite.zone_patches(), loc="lower center", ncol=5, fontsize=7)
     scale = "true scale" if factor == 1 else f"displacements magnified {factor:g} times"
     name = os.path.basename(os.path.normpath(os.path.abspath(folder)))
+    fig, ax = suite.body_figure(np.concatenate([xy] + moved), f"{name} ({scale})\nt = {frames[-1][0]:.4g} s",
+                                legend=LEGEND, box=(5.6, 3.9), right=1.6)
+    limits, title = (ax.get_xlim(), ax.get_ylim()), ax.get_title().rsplit("\n", 1)[0]
+    fig.set_size_inches(*even_pixels(fig.get_size_inches()))
+    fig.colorbar(plt.cm.ScalarMappable(norm=norm, cmap="viridis"), ax=ax, label=label, shrink=0.8)
+    fig.legend(handles=suite.zone_patches(), loc="lower center", ncol=suite.legend_columns(fig, *LEGEND[1:]),
+               fontsize=7)
     outline = xy[suite.boundary_edges(triangles)]
 
     def draw(k):
@@ -80,28 +112,37 @@ def animate(folder):
         ax.tripcolor(mtri.Triangulation(*moved[k].T, triangles), colour_values(vtu)[0], norm=norm, cmap="viridis",
                      shading="gouraud")
         ax.add_collection(mcollections.LineCollection(outline, colors="0.6", linewidths=0.8))
-        zone = array(vtu, "contact_zone").astype(int)
+        zone = zones(vtu)
         on = zone >= 0
-        ax.scatter(*moved[k][on].T, c=[ZONE_COLORS.get(z, "k") for z in zone[on]], s=12, edgecolors="k",
+        ax.scatter(*moved[k][on].T, c=[ZONE_COLORS[z] for z in zone[on]], s=12, edgecolors="k",
                    linewidths=0.3, zorder=3)
-        ax.set_xlim(low[0] - margin, high[0] + margin)
-        ax.set_ylim(low[1] - margin, high[1] + margin)
+        ax.set_xlim(*limits[0])
+        ax.set_ylim(*limits[1])
         ax.set_aspect("equal")
-        ax.set_title(f"{name}: t = {t:.4g} s ({scale})")
+        ax.set_xlabel("x [m]")
+        ax.set_ylabel("y [m]")
+        ax.set_title(f"{title}\nt = {t:.4g} s")
 
-    draw(0)
-    fig.tight_layout(rect=(0, 0.06, 1, 1))             # the zones' legend below
+    draw(len(frames) - 1)                               # the layout for the widest title
+    fig.tight_layout(rect=(0, (0.1 + 0.2 * legend_rows(fig)) / fig.get_figheight(), 1, 1))   # the zones' legend below
     animation = manimation.FuncAnimation(fig, draw, frames=len(frames), interval=1000 / FPS)
-    out = os.path.join(folder, "figures")
-    os.makedirs(out, exist_ok=True)
-    written = [os.path.join(out, "animation.gif")]
-    animation.save(written[0], writer=manimation.PillowWriter(fps=FPS), dpi=DPI)
-    if shutil.which("ffmpeg"):
-        written.append(os.path.join(out, "animation.mp4"))
-        animation.save(written[1], writer=manimation.FFMpegWriter(fps=FPS), dpi=DPI)
+    animation.save(files.temporary(written[0]), writer=manimation.PillowWriter(fps=FPS), dpi=DPI)
+    if len(written) > 1:
+        animation.save(files.temporary(written[1]), writer=manimation.FFMpegWriter(fps=FPS), dpi=DPI)
     plt.close(fig)
-    suite.list_figures(written)
+    files.commit()
     return written
+
+
+def even_pixels(size):
+    """The figure size (inches) rounded to whole, even numbers of pixels at DPI (video
+    encoders want even widths and heights)."""
+    return [2 * round(side * DPI / 2) / DPI for side in size]
+
+
+def legend_rows(fig):
+    """The rows of the zones' legend across the figure's bottom."""
+    return -(-len(suite.ZONES) // suite.legend_columns(fig, *LEGEND[1:]))
 
 
 def main():

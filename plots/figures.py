@@ -5,6 +5,9 @@ One function per figure, named after the paper's figure (or, for the figures the
 paper does not have, after what they show); each reads the text outputs by column
 name and writes PNG files. Usage:
   figures.py --results DIR --out DIR [NAME ...]     (NAME: see FIGURES; default all)
+Prints 'figures.py: NAME -> PATH' for each figure drawn. A NAME that is not a figure, or
+results that are missing, end it with one line on stderr and exit status 2 (./run.sh figures
+passes here the arguments that are not run folders, hence "no run folder ... and no figure").
 DIR/paper-original, DIR/paper-penalty, DIR/eps-study and DIR/scenes/NAME (the scenes
 unloading, cylinder, bound-profile, power-damping of edp/scenes/) are the outputs of
 ./run.sh; fig5 also reads DIR/eps-study/eps_study.txt, written by plots/tables.py.
@@ -370,7 +373,8 @@ def main():
     args = parser.parse_args()
     unknown = [n for n in args.names if n not in FIGURES]
     if unknown:
-        raise suite.InputError(f"unknown figure {unknown[0]}; figures: {' '.join(FIGURES)}")
+        raise suite.InputError(f"no run folder '{unknown[0]}' and no figure named {unknown[0]} "
+                               f"(figures: {' '.join(FIGURES)})")
     for problem in PROBLEMS:
         if not os.path.isfile(os.path.join(args.results, f"paper-{problem}", "summary.txt")):
             raise suite.InputError(f"no results in {args.results}/paper-{problem}: run ./run.sh first")
@@ -379,4 +383,4 @@ def main():
 
 
 if __name__ == "__main__":
-    suite.run_tool("figures.py", main)
+    suite.run_tool("figures.py", main, code=2)

@@ -35,9 +35,21 @@ class InputError(Exception):
 
 def run_tool(tool, main, code=1):
     """Run main(); an InputError, or an OSError of a file, ends the tool with the one line
-    'TOOL: error: MESSAGE' on stderr and exit status `code`."""
+    'TOOL: error: MESSAGE' on stderr and exit status `code`. Whatever ends main() (an error,
+    an exception it did not expect, SIGINT, SIGTERM, SIGHUP), the figures it had not yet put
+    into place are removed first (FigureFiles.abort)."""
+    import signal
+
+    def stop(number, _frame):
+        raise SystemExit(128 + number)
+    for number in (signal.SIGTERM, signal.SIGHUP):
+        signal.signal(number, stop)
     try:
-        return main()
+        try:
+            return main()
+        finally:
+            for pending in list(FigureFiles.pending):
+                pending.abort()
     except InputError as error:
         message = str(error)
     except OSError as error:
@@ -95,8 +107,9 @@ class Table:
     its last '#' line) and data (a 2-D numpy array, one row per line); table[name] is the
     column of that name, len(table) the number of rows."""
 
-    def __init__(self, path, params, columns, data):
+    def __init__(self, path, params, columns, data, lines=None):
         self.path, self.params, self.columns, self.data = path, params, columns, data
+        self.lines = np.arange(1, len(data) + 1) if lines is None else np.asarray(lines)   # of each row
 
     def __getitem__(self, name):
         if name not in self.columns:
@@ -108,6 +121,26 @@ class Table:
 
     def __len__(self):
         return self.data.shape[0]
+
+    def finite(self, *names):
+        """The columns of these names, each value checked to be a finite number (not nan,
+        not inf): InputError naming the file, the line and the column otherwise."""
+        for name in names:
+            bad = np.flatnonzero(~np.isfinite(self[name]))
+            if bad.size:
+                raise InputError(f"{self.path}:{self.lines[bad[0]]}: {name} = {float(self[name][bad[0]])!r} is not a finite "
+                                 f"number ({bad.size} row{'s' if bad.size > 1 else ''})")
+        return [self[name] for name in names]
+
+    def codes(self, name, low, high):
+        """The column of that name as whole numbers, each checked to lie in low..high:
+        InputError naming the file, the line and the value otherwise."""
+        values = self[name]
+        bad = np.flatnonzero(~np.isin(values, np.arange(low, high + 1)))
+        if bad.size:
+            raise InputError(f"{self.path}:{self.lines[bad[0]]}: {name} = {float(values[bad[0]]):g}, not one of "
+                             f"{low}..{high}")
+        return values.astype(int)
 
     def rows(self):
         """One Values column name -> value per row."""
@@ -149,7 +182,7 @@ def read_table(path, dtype=float, empty=False):
                 raise InputError(f"{path}:{number}: {len(words)} values for the {len(columns)} columns "
                                  f"{' '.join(columns)}")
         raise InputError(f"{path}: unreadable rows")
-    return Table(path, params, columns, data)
+    return Table(path, params, columns, data, [number for number, _ in rows])
 
 
 def read_summary(path):
@@ -343,12 +376,12 @@ def vtk_array(path, element, where):
     return values.reshape(-1, components) if components > 1 else values
 
 
-Vtu = collections.namedtuple("Vtu", "xy triangles point_data")
+Vtu = collections.namedtuple("Vtu", "xy triangles point_data path")
 
 
 def read_vtu(path):
     """One ASCII VTK XML UnstructuredGrid of triangles, as edp/solve.edp -vtk writes it:
-    Vtu(xy (points, 2), triangles (cells, 3), point_data {name: (points,) or (points, k)})."""
+    Vtu(xy (points, 2), triangles (cells, 3), point_data {name: (points,) or (points, k)}, path)."""
     piece = read_xml(path).find("UnstructuredGrid/Piece")
     if piece is None:
         raise InputError(f"{path}: not a VTK UnstructuredGrid file (no UnstructuredGrid/Piece)")
@@ -367,7 +400,7 @@ def read_vtu(path):
     for name, values in data.items():
         if len(values) != len(xy):
             raise InputError(f"{path}: PointData {name} has {len(values)} rows for {len(xy)} points")
-    return Vtu(xy[:, :2], triangles, data)
+    return Vtu(xy[:, :2], triangles, data, path)
 
 
 def read_pvd(path):
@@ -380,6 +413,9 @@ def read_pvd(path):
         raise InputError(f"{path}: a DataSet without a numeric timestep and a file") from None
     if not series:
         raise InputError(f"{path}: no DataSet in its Collection")
+    for t, file in series:
+        if not np.isfinite(t):
+            raise InputError(f"{path}: the DataSet of {os.path.basename(file)} has timestep {t!r}, not a finite number")
     return series
 
 
@@ -488,10 +524,13 @@ class RunScene:
     damping family, the bound g(x) (bound_profile), the load factor h(t) (load_history) and
     body_force. Written from the documentation, not from the solver (whose law is
     edp/plugins/contactlaw.hpp): tests/check_results.py checks the outputs against it, and
-    the figures draw it. A folder without scene.scene: the paper's law with the run's -cnu."""
+    the figures draw it. A folder without scene.scene: InputError when required, else the
+    paper's law with the run's -cnu."""
 
-    def __init__(self, folder, params):
+    def __init__(self, folder, params, required=False):
         path = os.path.join(folder, "scene.scene")
+        if required and not os.path.isfile(path):
+            raise InputError(f"missing {path}: the run's law (its bound g, its damping) is not known")
         data = read_scene(path).data if os.path.isfile(path) else {}
         def words(key):
             if key not in data:
@@ -580,26 +619,81 @@ def zone_codes(normal_status, tangential_status):
     return np.where(normal == 0, 0, 2 * normal - np.asarray(tangential_status).astype(int))
 
 
-def halfway_edges(s):
-    """The edges of the cells of sorted positions s: halfway between neighbours, and the
-    first and the last position."""
-    return np.r_[s[0], 0.5 * (s[1:] + s[:-1]), s[-1]]
+def contact_pieces(mesh, x, y):
+    """The piece of Gamma3 each contact node (x, y) lies on, numbered 0, 1, ...: the mesh's
+    boundary lines of the contact label (physical curve 1), joined where they share a node,
+    make the pieces (one for a connected Gamma3, two for a body standing on two feet). Each
+    node is taken as the nearest node of those lines."""
+    edges = mesh.lines[mesh.line_labels == labels()["GammaContact"]]
+    if not len(edges):
+        raise InputError("the mesh has no contact boundary (physical curve 1)")
+    parent = {}
+
+    def root(node):
+        while parent.setdefault(node, node) != node:
+            node = parent[node]
+        return node
+    for a, b in edges:
+        parent[root(a)] = root(b)
+    on = np.array(sorted(parent))
+    numbers = {}
+    piece = {node: numbers.setdefault(root(node), len(numbers)) for node in on}
+    return np.array([piece[node] for node in on[nearest(mesh.xy[on], np.c_[x, y])]], dtype=int)
 
 
-def stretches(position, keys):
-    """The stretches of Gamma3 over which consecutive nodes (in the order of position) have
-    the same key: [(key, start, end, nodes)], wherever they lie, a key perhaps in several
-    stretches. A node holds Gamma3 up to halfway to its neighbours; the first and the last
-    node end the first and the last stretch."""
+def node_cells(position, pieces=None):
+    """The stretch of Gamma3 each node holds, as arrays (start, end): up to halfway to its
+    neighbours along Gamma3 on its own piece (contact_pieces; one piece when None), up to its
+    own position where it ends its piece. A gap between two pieces belongs to no node."""
+    position = np.asarray(position, dtype=float)
+    pieces = np.zeros(len(position), dtype=int) if pieces is None else np.asarray(pieces)
+    start, end = position.copy(), position.copy()
+    for piece in np.unique(pieces):
+        nodes_ = np.flatnonzero(pieces == piece)
+        nodes_ = nodes_[np.argsort(position[nodes_], kind="stable")]
+        halfway = 0.5 * (position[nodes_[1:]] + position[nodes_[:-1]])
+        start[nodes_[1:]], end[nodes_[:-1]] = halfway, halfway
+    return start, end
+
+
+def along_gamma3(position, pieces, *columns):
+    """position and the columns in the order of position, a nan put between two nodes of
+    different pieces of Gamma3: a curve through them is broken across the gaps."""
     order = np.argsort(position, kind="stable")
-    k = [keys[i] for i in order]
-    cuts = halfway_edges(np.asarray(position, dtype=float)[order])
-    found, first = [], 0
-    for i in range(1, len(k) + 1):
-        if i == len(k) or k[i] != k[first]:
-            found.append((k[first], cuts[first], cuts[i], i - first))
-            first = i
-    return found
+    cuts = np.flatnonzero(np.diff(np.asarray(pieces)[order]) != 0) + 1
+    return [np.insert(np.asarray(column, dtype=float)[order], cuts, np.nan) for column in (position,) + columns]
+
+
+def map_columns(position, pieces):
+    """The columns of a map of the contact nodes along Gamma3 (pcolormesh): their edges, and
+    for each column the node it shows (in the order of position), or -1 for a gap between two
+    pieces of Gamma3, to be left blank."""
+    start, end = node_cells(position, pieces)
+    order = np.argsort(position, kind="stable")
+    edges, columns = [start[order[0]]], []
+    for before, node in zip(np.r_[-1, order[:-1]], order):
+        if before >= 0 and pieces[node] != pieces[before]:
+            edges.append(start[node])
+            columns.append(-1)
+        edges.append(end[node])
+        columns.append(node)
+    return np.array(edges), np.array(columns, dtype=int)
+
+
+def stretches(position, keys, pieces=None):
+    """The stretches of Gamma3 over which consecutive nodes (in the order of position, on
+    the same piece of Gamma3) have the same key: [(key, start, end, nodes)], wherever they
+    lie, a key perhaps in several stretches. Each node holds the cell of node_cells (halfway
+    to its neighbours on its piece); a stretch never spans the gap between two pieces."""
+    pieces = np.zeros(len(keys), dtype=int) if pieces is None else np.asarray(pieces)
+    start, end = node_cells(position, pieces)
+    found = []
+    for node in np.argsort(position, kind="stable"):
+        if found and found[-1][0] == keys[node] and found[-1][4] == pieces[node]:
+            found[-1][2], found[-1][3] = end[node], found[-1][3] + 1
+        else:
+            found.append([keys[node], start[node], end[node], 1, pieces[node]])
+    return [(key, first, last, count) for key, first, last, count, _ in found]
 
 
 def shade_stretches(ax, found, colors, alpha=0.15):
@@ -689,6 +783,47 @@ def magnification(size, largest):
     return float(max(step * decade for step in (1, 2, 5) if step * decade <= wanted))
 
 
+def body_axes(extent, box=(8.0, 6.0), least=2.0):
+    """Width and height in inches of axes that show a body of extent (width, height) at equal
+    aspect: as large as fits in box, no side under least (a tall column gets tall, narrow
+    axes, not a wide figure two thirds empty)."""
+    width, height = (max(float(side), 1e-12) for side in extent)
+    inches = min(box[0] / width, box[1] / height)
+    return max(width * inches, least), max(height * inches, least)
+
+
+def legend_columns(fig, most=3, width=2.4):
+    """How many columns (of `width` inches, at most `most`) a legend across the figure's
+    width may have."""
+    return int(max(1, min(most, fig.get_figwidth() // width)))
+
+
+def body_figure(points, title, legend=(0, 3, 2.4), box=(8.0, 6.0), right=2.0):
+    """A figure and axes for a body whose points (n, 2) it must show, shaped to it (body_axes
+    within box; right: inches for a colour bar), x [m] and y [m] at equal aspect, the limits
+    those of the points with a margin of a twentieth, the title (its lines wrapped to the
+    width), room below for a legend of legend = (entries, most columns, column width) laid
+    out as legend_columns() will."""
+    import textwrap
+    plt = pyplot()
+    low, high = np.min(points, axis=0), np.max(points, axis=0)
+    margin = 0.05 * (high - low).max()
+    low, high = low - margin, high + margin
+    width, height = body_axes(high - low, box)
+    figure_width = width + right + 0.9
+    entries, most, column = legend
+    rows = -(-entries // int(max(1, min(most, figure_width // column))))
+    lines = [line for part in title.split("\n") for line in textwrap.wrap(part, max(30, int(figure_width * 12)))]
+    fig, ax = plt.subplots(figsize=(figure_width, height + 0.9 + 0.2 * len(lines) + 0.22 * rows))
+    ax.set_xlim(low[0], high[0])
+    ax.set_ylim(low[1], high[1])
+    ax.set_aspect("equal")
+    ax.set_xlabel("x [m]")
+    ax.set_ylabel("y [m]")
+    ax.set_title("\n".join(lines))
+    return fig, ax
+
+
 # ---------------------------------------------------------------- figures
 STYLE = {
     "figure.figsize": (11, 4),
@@ -712,23 +847,127 @@ def pyplot(overrides=None):
     return plt
 
 
+# ---------------------------------------------------------------- figures in a run folder
+# A run folder's figures/ holds what plots/run_figures.py and plots/animate.py drew there and
+# figures.list, which names them. edp/plugins/runtools.cpp reads that list (with the same
+# signature line): a later solve into the folder replaces it only if every file of figures/ is
+# listed, and removes the listed ones with it. FIGURES_DRAWN are the only names the list may
+# hold; edp/plugins/runtools.cpp holds the same list (figuresDrawn): change both together.
+FIGURES_DRAWN = ("contact_at_T.png", "histories.png", "deformed.png", "zone_map.png", "compare_contact.png",
+                 "animation.gif", "animation.mp4")
 FIGURES_LIST = "figures.list"
 FIGURES_SIGNATURE = "# figures.list: the figures plots/ of this suite drew here; they go with the run's results"
 
 
-def list_figures(paths):
-    """Name the figures drawn into a run folder's figures/ in its figures.list, which
-    edp/plugins/runtools.cpp reads: a run that replaces the folder removes them with it (any
-    other file there keeps the folder from being replaced)."""
-    for out in sorted({os.path.dirname(path) for path in paths}):
-        listed = os.path.join(out, FIGURES_LIST)
-        names = set()
-        if os.path.isfile(listed):
-            lines = read_lines(listed)
-            names = set(lines[1:]) if lines and lines[0] == FIGURES_SIGNATURE else set()
-        names |= {os.path.basename(path) for path in paths if os.path.dirname(path) == out}
-        with open(listed, "w") as f:
-            f.write("\n".join([FIGURES_SIGNATURE] + sorted(names)) + "\n")
+def figures_listed(out):
+    """The names a figures/ folder's figures.list gives (those of FIGURES_DRAWN only); None
+    when there is no figures.list. InputError when there is one without the signature line."""
+    listed = os.path.join(out, FIGURES_LIST)
+    if not os.path.lexists(listed):
+        return None
+    lines = read_lines(listed) if os.path.isfile(listed) else []
+    if not lines or lines[0] != FIGURES_SIGNATURE:
+        raise InputError(f"{listed} was not written by this suite (no signature line): "
+                         "move it away, the figures cannot be listed")
+    return {name for name in lines[1:] if name in FIGURES_DRAWN}
+
+
+class FigureFiles:
+    """The figures one tool draws into run folders' figures/ (paths OUT/figures/NAME, NAME
+    of FIGURES_DRAWN), written all or nothing. Made before anything is drawn, it refuses
+    (InputError naming the file) a path that holds anything but a figure figures.list lists:
+    a file of the user's is never overwritten. save() and temporary() write each figure to
+    OUT/figures/.STEM.tmp.PID.EXT; commit() then adds the names to each figures.list and
+    renames the temporaries into place. abort() (run_tool calls it on any failure) removes
+    the temporaries, puts back the figures.list files it changed, and removes a figures/ it
+    made that is empty again: the folders are left as they were."""
+
+    pending = []            # the FigureFiles not yet committed or aborted (run_tool aborts them)
+
+    def __init__(self, paths):
+        self.paths = list(dict.fromkeys(paths))
+        self.folders = sorted({os.path.dirname(path) for path in self.paths})
+        for path in self.paths:
+            if os.path.basename(path) not in FIGURES_DRAWN:
+                raise ValueError(f"{path}: not one of the figures the suite draws ({' '.join(FIGURES_DRAWN)})")
+        self.listed = {}
+        for out in self.folders:
+            if os.path.lexists(out) and not os.path.isdir(out):
+                raise InputError(f"{out} is not a folder: the figures cannot go there")
+            self.listed[out] = figures_listed(out) if os.path.isdir(out) else None
+        for path in self.paths:
+            listed = self.listed[os.path.dirname(path)] or set()
+            if os.path.lexists(path) and (os.path.basename(path) not in listed or os.path.islink(path)
+                                          or not os.path.isfile(path)):
+                raise InputError(f"{path}: not a figure this suite drew ({FIGURES_LIST} does not list it); "
+                                 "move it away to draw the figure")
+        self.temporaries, self.made, self.lists = {}, [], {}
+        FigureFiles.pending.append(self)
+
+    def temporary(self, path):
+        """The temporary file to write the figure `path` to (its folder made if needed)."""
+        out = os.path.dirname(path)
+        if path not in self.paths:
+            raise ValueError(f"{path}: not among the figures announced")
+        if not os.path.isdir(out):
+            os.mkdir(out)
+            self.made.append(out)
+        stem, ext = os.path.splitext(os.path.basename(path))
+        self.temporaries[path] = os.path.join(out, f".{stem}.tmp.{os.getpid()}{ext}")
+        return self.temporaries[path]
+
+    def save(self, fig, path, tight_layout=True):
+        """Write the matplotlib figure to the temporary of path, close it; return path."""
+        import matplotlib.pyplot as plt
+        temporary = self.temporary(path)
+        if tight_layout:
+            fig.tight_layout()
+        fig.savefig(temporary, format=os.path.splitext(path)[1][1:])
+        plt.close(fig)
+        return path
+
+    def commit(self):
+        """Name every figure written in its folder's figures.list, then put them into place."""
+        for out in self.folders:
+            names = {os.path.basename(path) for path in self.temporaries if os.path.dirname(path) == out}
+            if not names:
+                continue
+            listed = os.path.join(out, FIGURES_LIST)
+            before = None
+            if os.path.isfile(listed):
+                with open(listed, "rb") as f:
+                    before = f.read()
+            with open(listed, "w") as f:
+                self.lists[out] = before
+                f.write("\n".join([FIGURES_SIGNATURE] + sorted((self.listed[out] or set()) | names)) + "\n")
+        for path, temporary in list(self.temporaries.items()):
+            os.replace(temporary, path)
+            del self.temporaries[path]
+        FigureFiles.pending.remove(self)
+
+    def abort(self):
+        """Remove what this drawing wrote; leave the folders as they were (as far as the
+        system lets it: a step that fails does not keep the others from being done)."""
+        if self in FigureFiles.pending:
+            FigureFiles.pending.remove(self)
+        steps = [functools.partial(os.remove, temporary) for temporary in self.temporaries.values()]
+        for out, before in self.lists.items():
+            steps.append(functools.partial(restore, os.path.join(out, FIGURES_LIST), before))
+        steps += [functools.partial(os.rmdir, out) for out in reversed(self.made)]
+        for step in steps:
+            try:
+                step()
+            except OSError:         # gone already, or a figures/ that is not empty
+                pass
+
+
+def restore(path, before):
+    """Put back a file's former bytes, or remove it if it did not exist (before None)."""
+    if before is None:
+        os.remove(path)
+    else:
+        with open(path, "wb") as f:
+            f.write(before)
 
 
 def save(fig, out, name, tight_layout=True):

@@ -853,6 +853,13 @@ bash tests/lab.sh "$work/lab.log" > "$diag" 2>&1
 report $? "docs/lab.md: every command of the lab sheet runs, and gives the numbers the sheet states" "$diag"
 # ---- end lab
 
+# ---- the figures' names: plots/suite.py (FIGURES_DRAWN) and edp/plugins/runtools.cpp (figuresDrawn) list the same
+diag="$work/names.diag"; : > "$diag"
+py_names=$("$PYTHON" -c 'import suite; print(" ".join(sorted(suite.FIGURES_DRAWN)))' 2>> "$diag")
+cpp_names=$(sed -n '/^bool figuresDrawn/,/^}/p' edp/plugins/runtools.cpp | grep -o '"[a-zA-Z_]*\.[a-z0-9]*"' | tr -d '"' | sort | tr '\n' ' ' | sed 's/ $//')
+echo "plots/suite.py: $py_names; runtools.cpp: $cpp_names" >> "$diag"
+[ -n "$py_names" ] && [ "$py_names" = "$cpp_names" ]; report $? "the names of the figures drawn: the same list in plots/suite.py and edp/plugins/runtools.cpp" "$diag"
+
 # ---- edp/compare.edp (the benchmark's errors): a run against itself is 0, against a finer mesh small
 diag="$work/compare.diag"; : > "$diag"; status=0
 rm -rf "$work/cmp-a" "$work/cmp-b"

@@ -326,9 +326,9 @@ bool runFileName(const std::string &name) {
 // them in OUT/figures/figures.list (a signature line, then the names): they go with their run.
 const char *figuresFolder = "figures", *figuresList = "figures.list";
 const char *figuresSignature = "# figures.list: the figures plots/ of this suite drew here; they go with the run's results";
-// the only names the tools draw (the same list as FIGURE_NAMES in plots/suite.py): a list that
+// the only names the tools draw (the same list as FIGURES_DRAWN in plots/suite.py; a test keeps them equal): a list that
 // names any other file is not followed
-bool drawnFigure(const std::string &name) {
+bool figuresDrawn(const std::string &name) {
   static const std::set<std::string> drawn = {"contact_at_T.png", "histories.png", "deformed.png", "zone_map.png",
                                                "compare_contact.png", "animation.gif", "animation.mp4"};
   return drawn.count(name) > 0;
@@ -338,7 +338,7 @@ std::set<std::string> figuresListed(const std::string &folder) {
   std::ifstream f(folder + "/" + figuresFolder + "/" + figuresList);
   std::string line;
   if (!f || !std::getline(f, line) || line != figuresSignature) return listed;
-  while (std::getline(f, line)) if (drawnFigure(line)) listed.insert(line);
+  while (std::getline(f, line)) if (figuresDrawn(line)) listed.insert(line);
   return listed;
 }
 void removeFigures(const std::string &folder) {

@@ -46,6 +46,9 @@
 //   contactKernelRecord(real[int] v, real[int] u, real[int] Lambda, real[int] f, real[int] Mv,
 //       real[int] Bu, real[int] record)   the record of a step (see stepRecord); returns 1 if
 //       the energy balance is not finite
+//   contactKernelAppendNodes(string file, int n, real t, real[int] x, real[int] y, real[int,int] table)
+//       appends step n's rows of contact_nodes_history.txt (table: contactKernelNodal's), through a
+//       stream kept open until contactKernelCloseNodes() (1 if the file was not written whole)
 //   contactKernelNodal(real[int] v, real[int] Lambda, real[int,int] table)  per node: v_nu,
 //       v_tau, p_nu, lambda_nu, lambda_tau, normal_status, tangential_status, friction_bound,
 //       force scale p(g), zone
@@ -626,6 +629,41 @@ long nodal(KN<double> *const &pv, KN<double> *const &pLam, KNM<double> *const &p
   return 0;
 }
 
+// Append the rows of step n of contact_nodes_history.txt (edp/lib/series.idp) to path: one per
+// node, "step t node x y" then the nodal table's columns 0..6 and its zone, 17 digits, as
+// FreeFEM's own streams would write them (compiled, through one stream kept open until
+// contactKernelCloseNodes: written from the interpreter, or reopened at every step, the rows
+// cost as much as the step). 1 if the file cannot be written.
+std::ofstream nodesStream;
+std::string nodesPath;
+long closeNodes() {
+  if (!nodesStream.is_open()) return 0;
+  nodesStream.flush();
+  const bool ok = (bool)nodesStream;
+  nodesStream.close();
+  nodesPath.clear();
+  return ok && !nodesStream.fail() ? 0 : 1;
+}
+long appendNodes(string *const &path, const long &n, const double &t, KN<double> *const &px, KN<double> *const &py,
+                 KNM<double> *const &ptable) {
+  KN<double> &x = *px, &y = *py;
+  KNM<double> &table = *ptable;
+  if (x.N() != y.N() || table.N() != x.N() || table.M() < 10) ExecError("contactKernelAppendNodes: wrong argument sizes");
+  if (nodesPath != *path) {
+    if (closeNodes()) return 1;
+    nodesStream.open(*path, std::ios::app);
+    nodesStream.precision(17);
+    nodesPath = *path;
+  }
+  std::ofstream &f = nodesStream;
+  for (int i = 0; i < (int)x.N(); i++) {
+    f << n << " " << t << " " << i << " " << x[i] << " " << y[i];
+    for (int k = 0; k < 7; k++) f << " " << table(i, k);
+    f << " " << std::lround(table(i, 9)) << "\n";
+  }
+  return f ? 0 : 1;
+}
+
 struct Record {
   std::vector<double> vOld, Mv, Av, Bv;  // v_{n-1}; workspace
   double energyOld = 0;                  // kinetic + elastic of the previous step
@@ -1064,6 +1102,9 @@ static void Load_Init() {
   Global.Add("contactKernelRecordStart", "(", new OneOperator4_<long, KN<double> *, KN<double> *, KN<double> *, KN<double> *>(recordStart));
   Global.Add("contactKernelRecord", "(", new OneOperator7_<long, KN<double> *, KN<double> *, KN<double> *, KN<double> *, KN<double> *, KN<double> *, KN<double> *>(stepRecord));
   Global.Add("contactKernelNodal", "(", new OneOperator3_<long, KN<double> *, KN<double> *, KNM<double> *>(nodal));
+  Global.Add("contactKernelCloseNodes", "(", new OneOperator0<long>(closeNodes));
+  Global.Add("contactKernelAppendNodes", "(",
+             new OneOperator6_<long, string *, long, double, KN<double> *, KN<double> *, KNM<double> *>(appendNodes));
   Global.Add("contactKernelNewton", "(", new OneOperator4_<long, KN<double> *, KN<double> *, KN<double> *, KN<double> *>(newton));
   Global.Add("contactLawEvaluate", "(", new OneOperator3_<double, KN<double> *, KN<double> *, KN<double> *>(lawEvaluate));
   Global.Add("contactLawRelations", "(", new OneOperator5_<long, KN<double> *, KN<double> *, KN<double> *, KN<double> *, KN<long> *>(lawRelations));

@@ -51,12 +51,19 @@ build_plugin() { # build_plugin NAME "SOURCES..." [LIBRARIES...]: (re)build edp/
   sum="$(cd "$PLUGINS" && cat $sources | cksum | cut -d' ' -f1)"
   [ -f "$target" ] && [ "$(cat "$target.cksum" 2>/dev/null)" = "$sum" ] && return 0
   mkdir -p "$PLUGINS/build"
-  local tmp="$target.$$"
-  if ! g++ -O2 -std=c++14 -fPIC -shared -DNDEBUG -DKERNEL_SOURCES_CKSUM="$sum" -Wno-deprecated-declarations \
-       -I/usr/include/freefem++ -I/usr/include/suitesparse "$PLUGINS/$name.cpp" -o "$tmp" "$@"; then
+  local tmp="$target.$$" saved compiler
+  saved="$(trap -p TERM INT HUP)"
+  g++ -O2 -std=c++14 -fPIC -shared -DNDEBUG -DKERNEL_SOURCES_CKSUM="$sum" -Wno-deprecated-declarations \
+      -I/usr/include/freefem++ -I/usr/include/suitesparse "$PLUGINS/$name.cpp" -o "$tmp" "$@" &
+  compiler=$!                                     # a signal during the build stops it and leaves no partial .so
+  trap 'kill "$compiler" 2>/dev/null; wait "$compiler"; rm -f "$tmp"; exit 143' TERM
+  trap 'kill "$compiler" 2>/dev/null; wait "$compiler"; rm -f "$tmp"; exit 130' INT
+  trap 'kill "$compiler" 2>/dev/null; wait "$compiler"; rm -f "$tmp"; exit 129' HUP
+  if ! wait "$compiler"; then
     rm -f "$tmp"; echo "run.sh: error: cannot build $target from $PLUGINS/$name.cpp" >&2; exit 1
   fi
   mv "$tmp" "$target"
+  trap - TERM INT HUP; eval "$saved"
   echo "$sum" > "$target.cksum"
   echo "run.sh: built $target" >&2
 }

@@ -7,6 +7,18 @@
 # Prints one "ok N - name" / "not ok N - name" line per test, diagnostics on "#" lines,
 # and ends with "N passed, N failed". Exit status 1 if any test failed.
 set -u
+# A terminating signal stops the processes the harness started (each solve removes what it
+# created), once the command running in the foreground returns, then the harness itself.
+descendants() { local child; for child in $(cat /proc/"$1"/task/*/children 2>/dev/null); do descendants "$child"; echo "$child"; done; }
+stop_harness() {
+  trap - TERM INT HUP
+  local pid
+  for pid in $(descendants $$); do kill -TERM "$pid" 2> /dev/null; done
+  wait
+  echo "run_tests.sh: stopped by a signal" >&2
+  exit "$1"
+}
+trap 'stop_harness 143' TERM; trap 'stop_harness 130' INT; trap 'stop_harness 129' HUP
 tests="$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)"
 root="$(dirname "$tests")"
 cd "$root" || exit 1

@@ -571,6 +571,11 @@ void syncFolder(const std::string &path) {
 // lists, then the folder. OUT was checked just before the exchange, but a file of the user's
 // may have been put there since: then the folder is not empty, and it is kept, as
 // OUT.kept.<pid>, with a note. No file that the marker does not list is ever removed.
+// the earlier folder, when something stays in it: OUT.kept.<pid> (or where it is, if taken)
+std::string keepAside(const std::string &replaced) {
+  const std::string kept = RF.out + ".kept." + std::to_string(getpid());
+  return syscall(SYS_renameat2, AT_FDCWD, replaced.c_str(), AT_FDCWD, kept.c_str(), 1 /* RENAME_NOREPLACE */) == 0 ? kept : replaced;
+}
 void removeReplaced(const std::string &replaced) {
   std::set<std::string> listed;
   if (completeListing(replaced, listed)) unlink((replaced + "/" + completeMarker).c_str());   // first: never complete-looking
@@ -584,10 +589,8 @@ void removeReplaced(const std::string &replaced) {
   removeFigures(replaced);
   if (rmdir(replaced.c_str()) == 0) return;
   if (!stuck.empty()) {
-    std::string kept = RF.out + ".kept." + std::to_string(getpid());
-    if (syscall(SYS_renameat2, AT_FDCWD, replaced.c_str(), AT_FDCWD, kept.c_str(), 1 /* RENAME_NOREPLACE */) != 0) kept = replaced;
     toStderr("note: the earlier results could not all be removed (" + stuck + ": " + stuckWhy + "); they are kept in "
-             + kept + "; the new ones are in " + RF.out + "\n");
+             + keepAside(replaced) + "; the new ones are in " + RF.out + "\n");
     return;
   }
   std::vector<std::pair<std::string, bool>> entries;
@@ -599,10 +602,8 @@ void removeReplaced(const std::string &replaced) {
   listFolder(replaced, entries);
   std::string names;
   for (auto &e : entries) names += (names.empty() ? "" : ", ") + e.first;
-  std::string kept = RF.out + ".kept." + std::to_string(getpid());
-  if (syscall(SYS_renameat2, AT_FDCWD, replaced.c_str(), AT_FDCWD, kept.c_str(), 1 /* RENAME_NOREPLACE */) != 0) kept = replaced;
   toStderr("note: " + names + " appeared in " + RF.out + " while this run replaced it: the earlier folder, with only that, is kept as "
-           + kept + "; the new results are in " + RF.out + "\n");
+           + keepAside(replaced) + "; the new results are in " + RF.out + "\n");
 }
 
 long runFolderFinish() {

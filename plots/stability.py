@@ -168,45 +168,57 @@ def map_mesh_r(results, out):
     save(fig, out, "mesh_r")
 
 
-def map_fixedpoint_r_k(results, out):
-    """Fixed point: augmentation x time step (reduced mesh, T = 0.4, maxit 20000)."""
+def map_fixedpoint_mesh_k(results, out):
+    """Fixed point: mesh x time step (T = 0.4, maxit 1000)."""
     rows = rows_of(results, "fixedpoint")
+    for r in rows:
+        r["mesh"] = f"{r['nx']}x{r['ny']}"
+    meshes = sorted({r["mesh"] for r in rows}, key=lambda m: int(m.split("x")[0]))
     fig, ax = plt.subplots(figsize=(5, 3.2))
     xs = sorted({r["dt"] for r in rows}, key=lambda v: -float(v))
-    modes = heatmap(ax, rows, "dt", "r", "time step k", "augmentation factor r", xorder=xs, xfmt=number, yfmt=number)
-    ax.set_title("fixed point, original problem (mesh 33x16, T = 0.4, mu = 0.4, maxit 20000)")
+    modes = heatmap(ax, rows, "dt", "mesh", "time step k", "mesh", xorder=xs, yorder=meshes, xfmt=number)
+    ax.set_title("fixed point, original problem (T = 0.4, mu = 0.4, maxit 1000)")
     legend(fig, modes)
-    save(fig, out, "fixedpoint_r_k")
+    save(fig, out, "fixedpoint_mesh_k")
 
 
 def map_paper_box(results, out):
-    """The defaults on the paper mesh 66x33 over the paper box (maxit 50 as shipped)."""
+    """The defaults of each solver on the paper mesh 66x33 over the paper box (maxit as shipped)."""
     rows = rows_of(results, "box")
     for r in rows:
         r["problem_eps"] = "original" if r["problem"] == "original" else f"penalty eps={float(r['eps']):g}"
         r["mu_load"] = f"mu={float(r['mu']):g} load={float(r['load']):g}"
-    eps_line = [r for r in rows if r["problem"] == "penalty" and r["mu"] in ("0.4",) and float(r["load"]) == 10
-                and float(r["dt"]) == 0.01]
+    solvers = [s for s in ("newton", "fixedpoint") if any(r["solver"] == s for r in rows)]
     grid = [r for r in rows if r["problem"] == "original" or float(r["eps"]) in (2e-5, 1e-12)]
     panels = sorted({r["problem_eps"] for r in grid}, key=lambda p: (p != "original", -float(p.split("=")[1]) if "=" in p else 0))
-    fig, axes = plt.subplots(1, len(panels) + (1 if len(eps_line) > 2 else 0), figsize=(3.6 * (len(panels) + 1), 3.6),
-                             squeeze=False)
+    eps_lines = {s: [r for r in rows if r["solver"] == s and r["problem"] == "penalty" and float(r["mu"]) == 0.4
+                     and float(r["load"]) == 10 and float(r["dt"]) == 0.01] for s in solvers}
+    with_line = any(len(v) > 2 for v in eps_lines.values())
+    ncol = len(panels) + (1 if with_line else 0)
+    fig, axes = plt.subplots(len(solvers), ncol, figsize=(3.9 * ncol, 3.9 * len(solvers)), squeeze=False)
     modes = set()
     ymap = sorted({r["mu_load"] for r in grid}, key=lambda s: tuple(float(w.split("=")[1]) for w in s.split()))
-    for ax, panel in zip(axes[0], panels):
-        sel = [r for r in grid if r["problem_eps"] == panel]
-        xs = sorted({r["dt"] for r in sel}, key=lambda v: -float(v))
-        modes |= heatmap(ax, sel, "dt", "mu_load", "time step k (T = 0.2 for k <= 1e-3)", "", xorder=xs,
-                         yorder=ymap, xfmt=number)
-        ax.set_title(panel)
-    if len(eps_line) > 2:
-        ax = axes[0][-1]
-        for r in eps_line:
-            r["row"] = "compliant, on"
-        modes |= heatmap(ax, eps_line, "eps", "row", "penalty eps (mu 0.4, load 10, k 0.01)", "",
-                         yorder=["compliant, on"], xfmt=number)
-        ax.set_title("penalty, eps line")
-    fig.suptitle("defaults (Newton, safeguards on, compliant, r = 1, maxit 50) on the paper mesh 66x33", y=1.02)
+    shipped = {"newton": "Newton, safeguards on, maxit 50", "fixedpoint": "fixed point, maxit 500"}
+    for row_axes, solver in zip(axes, solvers):
+        for ax, panel in zip(row_axes, panels):
+            sel = [r for r in grid if r["problem_eps"] == panel and r["solver"] == solver]
+            xs = sorted({r["dt"] for r in sel}, key=lambda v: -float(v))
+            modes |= heatmap(ax, sel, "dt", "mu_load", "time step k (T = 0.2 for k <= 1e-3)", "", xorder=xs,
+                             yorder=ymap, xfmt=number)
+            ax.set_title(f"{shipped[solver]}\n{panel}", fontsize=9)
+        if with_line:
+            ax = row_axes[-1]
+            line = eps_lines[solver]
+            if len(line) > 2:
+                for r in line:
+                    r["row"] = "eps line"
+                modes |= heatmap(ax, line, "eps", "row", "penalty eps (mu 0.4, load 10, k 0.01)", "",
+                                 yorder=["eps line"], xfmt=number)
+                ax.set_title(f"{shipped[solver]}\npenalty, eps line", fontsize=9)
+            else:
+                ax.axis("off")
+    fig.suptitle("defaults (compliant penalty, r = 1) on the paper mesh 66x33; cell: mean/max iterations per step", y=1.01)
+    fig.tight_layout()
     legend(fig, modes)
     save(fig, out, "paper_box")
 
@@ -214,10 +226,10 @@ def map_paper_box(results, out):
 MAPS = {
     "eps_method": map_eps_method, "r_method": map_r_method, "k_mu": map_k_mu, "mu_method": map_mu_method,
     "load_method": map_load_method, "k_method": map_k_method, "mesh_r": map_mesh_r,
-    "fixedpoint_r_k": map_fixedpoint_r_k, "paper_box": map_paper_box,
+    "fixedpoint_mesh_k": map_fixedpoint_mesh_k, "paper_box": map_paper_box,
 }
 SOURCES = {"eps_method": "eps", "r_method": "r", "k_mu": "kmu", "mu_method": "mu", "load_method": "load",
-           "k_method": "k", "mesh_r": "mesh", "fixedpoint_r_k": "fixedpoint", "paper_box": "box"}
+           "k_method": "k", "mesh_r": "mesh", "fixedpoint_mesh_k": "fixedpoint", "paper_box": "box"}
 
 
 def main():

@@ -80,17 +80,34 @@ run_case() {
 # Outputs prepared for numdiff: no timing lines, no round-off-only lines (check_*), and not
 # the counts of how the Newton matrix was solved (factorizations or low-rank corrections:
 # which one a step uses depends on a round-off residual test, not on the physics).
-numeric_view() { grep -v -e '^time_' -e '^check_' -e '^newton_factorizations ' -e '^newton_low_rank_corrections ' "$1"; }
+numeric_view() { grep -v -e '^time_' -e '^check_' -e '^newton_factorizations ' -e '^newton_low_rank_corrections ' -e '^newton_refinements ' "$1"; }
 
 # compare_numeric MODE REF NEW ABS REL [EXCLUDED FIELD...]: numdiff (MODE -q quiet or
-# -S statistics) with a per-column absolute floor ABS * max |column| of REF (ABS alone
-# for an all-zero column).
+# -S statistics) with a per-column absolute floor ABS * the column's scale in REF (ABS alone
+# for an all-zero column). The scale of a column is its largest |value|, or that of its
+# family, the columns of one unit named in the header (the last comment line before the
+# data): velocities, stresses, energies, forces, displacements. A column that is zero up to
+# the solver's tolerance (lambda_nu of a run that never reaches the bound, the contact work
+# in free flight) is then compared at the scale of its unit, not at that of its own noise;
+# velocities at least at g, stresses at least at c_nu g (the parameter lines of REF).
 compare_numeric() {
   local mode="$1" ref="$2" new="$3" abs="$4" rel="$5"; shift 5
   local args=() field floor
   while read -r field floor; do args+=(-a "$floor:$field"); done < <(
-    awk -v abs="$abs" '!/^#/ { for (i = 1; i <= NF; i++) if ($i + 0 == $i) { v = $i < 0 ? -$i : $i; if (v == v && v < 1e300 && v > m[i]) m[i] = v; if (i > n) n = i } }
-      END { for (i = 1; i <= n; i++) printf "%d %.3e\n", i, (m[i] > 0 ? abs * m[i] : abs) }' "$ref")
+    awk -v abs="$abs" '
+      BEGIN { split("v_nu v_tau v_x v_y", a); for (k in a) fam[a[k]] = "velocity"
+              split("p_nu lambda_nu lambda_tau friction_bound", a); for (k in a) fam[a[k]] = "stress"
+              split("kinetic elastic numerical_dissipation viscous_dissipation contact_dissipation external_work kinetic_jump elastic_jump", a)
+              for (k in a) fam[a[k]] = "energy"
+              split("normal_force tangential_force", a); for (k in a) fam[a[k]] = "force"
+              split("u_x u_y", a); for (k in a) fam[a[k]] = "displacement" }
+      /^# cnu / { cnu = $3 } /^# g / { g = $3 }
+      /^#/ { if (!data) { header = $0 }; next }
+      { if (!data) { data = 1; nh = split(header, h); for (i = 2; i <= nh; i++) family[i - 1] = fam[h[i]] }
+        for (i = 1; i <= NF; i++) if ($i + 0 == $i) { v = $i < 0 ? -$i : $i; if (v == v && v < 1e300 && v > m[i]) m[i] = v; if (i > n) n = i } }
+      END { fm["velocity"] = g + 0; fm["stress"] = cnu * g      # at least the scales of the law: g and p(g)
+            for (i = 1; i <= n; i++) if (family[i] != "" && m[i] > fm[family[i]]) fm[family[i]] = m[i]
+            for (i = 1; i <= n; i++) { s = family[i] != "" ? fm[family[i]] : m[i]; printf "%d %.3e\n", i, (s > 0 ? abs * s : abs) } }' "$ref")
   for field in "$@"; do args+=(-X "1:$field" -X "2:$field"); done
   numdiff "$mode" -r "$rel" "${args[@]}" "$ref" "$new"
 }
@@ -202,14 +219,14 @@ for problem in original penalty; do
   diag="$work/script-$problem.diag"; : > "$diag"; status=0
   if solve -scene paper -problem "$problem" -kernel script -out "$work/script-$problem" > "$diag" 2>&1 \
      && "$PYTHON" tests/check_results.py "$work/script-$problem" --compare "$work/paper-$problem" --rtol 1e-9 >> "$diag" 2>&1; then
-    for key in iterations_total iterations_max line_search_cuts augmentation_halvings; do
+    for key in iterations_total iterations_max newton_fallbacks fixed_point_sweeps; do
       a=$(grep "^$key " "$work/script-$problem/summary.txt"); b=$(grep "^$key " "$work/paper-$problem/summary.txt")
       [ -n "$a" ] && [ "$a" = "$b" ] || { echo "script: '$a', compiled: '$b'" >> "$diag"; status=1; }
     done
   else
     status=1
   fi
-  report $status "compiled Newton = script Newton: same iterations and line-search cuts, values to 1e-9 ($problem)" "$diag"
+  report $status "compiled Newton = script Newton: same iterations and fixed-point fallbacks, values to 1e-9 ($problem)" "$diag"
 done
 # ---- the law is defined once (edp/plugins/contactlaw.hpp): a different damped response,
 # p(r) = c_nu r_+^2 written in its linear case in a copy of the suite (the walkthrough's
@@ -324,13 +341,16 @@ if RESULTS_DIR="$work" bash tests/stability.sh --quick > "$diag" 2>&1; then
   loud=$(echo "$line" | sed -n 's/.*failing loudly \([0-9]*\)\/\([0-9]*\)/\1 \2/p')
   set -- $agree; [ -n "${1:-}" ] && [ "$1" = "$2" ] || { echo "agreement between methods: ${agree:-missing}" >> "$diag"; status=1; }
   set -- $loud; [ -n "${1:-}" ] && [ "$1" = "$2" ] || { echo "hopeless settings failing loudly: ${loud:-missing}" >> "$diag"; status=1; }
-  for map in eps_method r_method k_mu paper_box; do
+  for map in eps_method r_method k_mu paper_box fixedpoint_mesh_k; do
     [ -s "$work/stability/maps/stability_$map.png" ] || { echo "missing map stability_$map.png" >> "$diag"; status=1; }
+  done
+  for key in default_failures fixedpoint_default_failures; do
+    [ "$(awk -v k="$key" '$1 == k { print $2 }' "$work/stability/summary.txt")" = 0 ] || { echo "$key is not 0" >> "$diag"; status=1; }
   done
 else
   status=1
 fi
-report $status "./run.sh stability --quick: methods agree, hopeless settings fail loudly, maps drawn" "$diag"
+report $status "./run.sh stability --quick: methods agree, both solvers' defaults converge in the box, hopeless settings fail loudly, maps drawn" "$diag"
 
 diag="$work/tiny-eps.diag"; : > "$diag"
 if solve -problem penalty -eps 1e-10 -out "$work/tiny-eps" > "$diag" 2>&1 \
@@ -455,7 +475,7 @@ assert o in s, "not found: " + o; open(p, "w").write(s.replace(o, n, 1))' "$copy
 table_refused "a missing option" "tol           real" "tolerance     real" "options.txt has no option -tol, which the scripts need"
 table_refused "a malformed range" "nx            int     >=1,<=4096" "nx            int     >=1," "options.txt:[0-9]+: the range of -nx must read"
 table_refused "an unknown type" "problem       choice" "problem       choise" "options.txt:[0-9]+: type 'choise' of -problem is not one of"
-table_refused "a rule on an unknown option" "when solver=fixedpoint r 0.01" "when solvr=fixedpoint r 0.01" "options.txt:[0-9]+: the rule names an option that is not in the table"
+table_refused "a rule on an unknown option" "when solver=fixedpoint maxit 500" "when solvr=fixedpoint maxit 500" "options.txt:[0-9]+: the rule names an option that is not in the table"
 table_refused "a default out of its range" ">=1e-13,<=1e-4      1e-10" ">=1e-13,<=1e-4      1e-20" "options.txt:[0-9]+: the default of -tol"
 expect_failure "missing mesh file" 3 "cannot read the file" -mesh "$work/no-such.msh"
 printf '$MeshFormat\n4.1 0 8\n$EndMeshFormat\n' > "$work/v41.msh"
@@ -839,8 +859,10 @@ report $status "-vtk N: fields.pvd and .vtu frames read back by VTK equal fields
 
 diag="$work/log.diag"; : > "$diag"; status=0
 rm -rf "$work/log"
-solve -scene column -nx 8 -T 0.2 -dt 0.05 -verbose -out "$work/log" > /dev/null 2> "$work/log.err" || status=1
-[ "$(grep -c '^step [0-9]*/4 (t = ' "$work/log.err")" = 4 ] && grep -q '^  iteration 1: residual .*; changed: .*bound +9' "$work/log.err" && grep -q '^Newton log: 9 normal slots .* and 8 tangential' "$work/log.err" \
+solve -scene paper -nx 16 -ny 8 -T 0.2 -dt 0.05 -verbose -out "$work/log" > /dev/null 2> "$work/log.err" || status=1
+[ "$(grep -c '^step [0-9]*/4 (t = ' "$work/log.err")" = 4 ] && grep -q '^Newton log: 16 normal slots .* and 15 tangential' "$work/log.err" \
+  && grep -q '^  iteration 0 (the previous .*): residual .*; slots: damped 16, stick [0-9]*, slip [0-9]*$' "$work/log.err" \
+  && grep -q '^  iteration 1: residual .* (the Newton iterate did not lower the merit: one fixed-point iteration instead); changed: stick +[0-9]*, slip -[0-9]*$' "$work/log.err" \
   || { echo "-verbose:" >> "$diag"; cat "$work/log.err" >> "$diag"; status=1; }
 # a run of more than 2 s shows its progress about once a second, on stderr; -quiet none
 rm -rf "$work/log"

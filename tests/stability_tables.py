@@ -38,7 +38,7 @@ AGREEMENT_RTOL = 1e-8
 METHOD_OPTIONS = ("solver", "safeguard", "penaltyform", "r", "maxit", "out")
 # The paper box of the brief: mu 0..1.5, load 1..100 (0.1x to 10x), k 1e-4..0.2, eps >= 1e-12.
 COLUMNS = ("id method problem solver safeguard penaltyform nx ny T dt mu load eps r maxit exit mode period "
-           "fail_step fail_iterations fail_residual half_residual iter_mean iter_max steps halvings cuts "
+           "fail_step fail_iterations fail_residual half_residual iter_mean iter_max steps fallbacks sweeps "
            "check_constraint check_penalty_law check_energy_residual wall_s").split()
 
 
@@ -65,7 +65,7 @@ def method_name(o):
         form = [o["penaltyform"]] if o["problem"] == "penalty" else []
         return "-".join([prefix, "newton"] + form + [o["safeguard"]])
     if o["solver"] == "fixedpoint":
-        return f"{prefix}-fixedpoint" + ("-off" if o["safeguard"] == "off" else "")
+        return f"{prefix}-fixedpoint"
     return f"{prefix}-{o['solver']}"
 
 
@@ -146,8 +146,8 @@ def build_rows(results):
                "maxit": o.integer("maxit"), "exit": record.integer("exit"), "mode": mode, "period": period,
                "fail_step": step, "fail_iterations": iterations, "fail_residual": residual, "half_residual": half,
                "iter_mean": num("iterations_total") / steps if steps else float("nan"),
-               "iter_max": num("iterations_max"), "steps": steps, "halvings": num("augmentation_halvings"),
-               "cuts": num("line_search_cuts"), "check_constraint": num("check_constraint"),
+               "iter_max": num("iterations_max"), "steps": steps, "fallbacks": num("newton_fallbacks"),
+               "sweeps": num("fixed_point_sweeps"), "check_constraint": num("check_constraint"),
                "check_penalty_law": num("check_penalty_law"), "check_energy_residual": num("check_energy_residual"),
                "wall_s": record.real("wall"), "folder": folder, "record": record}
         rows.append(row)
@@ -312,19 +312,21 @@ def write_summary(path, rows, pairs, hopeless_checks, results):
     lines.append(f"hopeless_settings {len(hopeless_checks)}")
     lines.append(f"hopeless_failed_loudly {sum(hopeless_checks)}")
     lines.append("")
-    lines.append("# failures of a default inside the paper box (mu 0..1.5, load 1..100, k 1e-4..0.2,")
-    lines.append("# eps >= 1e-12): Newton with safeguards, compliant form, r = 1 (box sweep: maxit 50 as")
-    lines.append("# shipped; the other sweeps: maxit 100), with the command line that reproduces each")
-    defaults = [r for r in rows if r["sweep"] not in ("hopeless", "mesh") and r["solver"] == "newton"
-                and r["safeguard"] == "on" and r["penaltyform"] == "compliant" and r["r"] == 1.0
-                and 0 <= r["mu"] <= 1.5 and 1 <= r["load"] <= 100 and 1e-4 <= r["dt"] <= 0.2
-                and r["eps"] >= 1e-12]
-    failed = [r for r in defaults if r["mode"] != "ok"]
-    lines.append(f"default_points {len(defaults)}")
-    lines.append(f"default_failures {len(failed)}")
-    for r in failed:
-        lines.append(f"#   {r['sweep']} {r['id']} {r['mode']}: {r['record']['message']}")
-        lines.append(f"#   {command_line(r)}")
+    for solver, shipped in (("newton", 50), ("fixedpoint", 500)):
+        lines.append(f"# failures of the {solver} default inside the paper box (mu 0..1.5, load 1..100, k 1e-4..0.2,")
+        lines.append(f"# eps >= 1e-12): safeguards on, compliant form, r = 1 (box sweep: maxit {shipped} as")
+        lines.append("# shipped; the other sweeps: their cap), with the command line that reproduces each")
+        defaults = [r for r in rows if r["sweep"] not in ("hopeless", "mesh") and r["solver"] == solver
+                    and r["safeguard"] == "on" and r["penaltyform"] == "compliant" and r["r"] == 1.0
+                    and 0 <= r["mu"] <= 1.5 and 1 <= r["load"] <= 100 and 1e-4 <= r["dt"] <= 0.2
+                    and r["eps"] >= 1e-12]
+        failed = [r for r in defaults if r["mode"] != "ok"]
+        prefix = "" if solver == "newton" else "fixedpoint_"
+        lines.append(f"{prefix}default_points {len(defaults)}")
+        lines.append(f"{prefix}default_failures {len(failed)}")
+        for r in failed:
+            lines.append(f"#   {r['sweep']} {r['id']} {r['mode']}: {r['record']['message']}")
+            lines.append(f"#   {command_line(r)}")
     with open(path, "w") as f:
         f.write("\n".join(lines) + "\n")
 

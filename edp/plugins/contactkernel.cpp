@@ -12,9 +12,11 @@
 //        sweep z = L^-1 P b gives the free slot velocities c_free = C S^-1 b, and the contact
 //        load only changes the trailing block of z before the backward sweep v = P' L^-T z.
 // 2. The nodal laws: contactlaw.hpp, the one definition. The solvers of a step use it
-//    through the Slots object below: the semismooth Newton of contactKernelNewton, and the
-//    script solvers of edp/lib/solvers.idp through contactLawEvaluate / contactLawRelations /
-//    contactNewtonGuard / contactNewtonAccept / contactNewtonEnd.
+//    through the Slots object below: the semismooth Newton of contactKernelNewton, the
+//    fixed point of contactKernelFixedPoint (projected Gauss-Seidel with Anderson
+//    acceleration; Newton's safeguard falls back on its iteration), and the script solvers
+//    of edp/lib/solvers.idp through contactLawEvaluate / contactLawRelations /
+//    contactNewtonAccept / contactFixedPointIteration.
 // 3. The record of a step (the energy terms of history.txt, the forces, zones, x_B, x_C of
 //    contact_history.txt) and the nodal values of contact.txt, from the same statuses.
 //
@@ -35,7 +37,6 @@
 //       2 (CHOLMOD failed)
 //   contactKernelLargestEntry(matrix S)   the largest |S_ij| (inf or nan if one is not finite)
 //   contactKernelDelassus(real[int,int] Dw)   Dw = C S^-1 C' diag(W); sets r_j = r / Dw_jj
-//   contactKernelAugmentation(real[int] r)    other r_j (the fixed point's)
 //   contactKernelSolve(real[int] b, real[int] x)    x = S^-1 b
 //   contactKernelFree(real[int] b, real[int] cFree)  cFree = C S^-1 b (forward half)
 //   contactKernelFinish(real[int] m, real[int] v)    v = S^-1 (b - C'W m), b of the last Free
@@ -54,17 +55,22 @@
 //       force scale p(g), zone
 //   contactKernelNewton(real[int] cFree, real[int] c, real[int] m, real[int] info)  one step's
 //       Newton from (c, m); returns the iterations, or -1; info = [residual, iterations]
+//   contactKernelFixedPoint(real[int] cFree, real[int] c, real[int] m, real[int] info)  the
+//       same for the fixed point. Two environment variables change it for experiments
+//       (docs/stability.md, "Fixed point"): CONTACT_FP_WINDOW (Anderson's window, default 10;
+//       0: none) and CONTACT_FP_OMEGA (relaxation of each slot's update, default 1)
 //   contactLawEvaluate(real[int] c, real[int] m, real[int] target)  returns the natural
 //       residual at (c, m); target = the stresses the pieces give
 //   contactLawRelations(real[int] c, real[int] a, real[int] d, real[int] h, int[int] slot)
 //   contactLawMerit()   the 2-norm of the weighted residual of the last evaluation
-//   contactNewtonLog(int it, real residual, real step)   -verbose: the log line of iteration it
-//       (step: the line search's accepted step, 1 without a cut)
-//   contactNewtonGuard(int it)   the cycle guard (halves r on a repeat); returns 1 if it did
-//   contactNewtonAccept(real merit, real step, int cut)   the line search's test; 1 = accept
-//   contactNewtonEnd()   restores r after a step
-//   contactKernelCounters(real[int] info)   [line-search cuts, augmentation halvings, Newton
-//       matrix factorizations, low-rank corrections], over the run
+//   contactNewtonLog(int it, real residual, int kept)   -verbose: the log line of iteration it
+//       (kept 0: the safeguard replaced the Newton iterate by a fixed-point iteration)
+//   contactNewtonAccept(real merit)   the safeguard's test of the last evaluated iterate; 1 = keep
+//   contactFixedPointIteration(real[int] cFree, real[int] c, real[int] m)   one fixed-point
+//       iteration from m (the safeguard's fallback); returns the natural residual after it
+//   contactKernelCounters(real[int] info)   [Newton iterates replaced by a fixed-point
+//       iteration, fixed-point sweeps, Newton matrix factorizations, low-rank corrections,
+//       refinements of corrected solves], over the run
 //   contactKernelSourcesChanged(string folder)   1 if folder/contactkernel.cpp and
 //       folder/contactlaw.hpp are not the sources this kernel was built from (./run.sh passes
 //       their POSIX cksum as KERNEL_SOURCES_CKSUM), 0 if they are or if that is unknown
@@ -72,6 +78,7 @@
 #include "AFunction_ext.hpp"
 #include <cholmod.h>
 #include <cstdint>
+#include <cstdlib>
 #include <cstdio>
 #include <fstream>
 #include <iostream>
@@ -89,6 +96,7 @@ void dtrsm_(const char *side, const char *uplo, const char *transa, const char *
             const int *n, const double *alpha, const double *a, const int *lda, double *b, const int *ldb);
 void dsyrk_(const char *uplo, const char *trans, const int *n, const int *k, const double *alpha,
             const double *a, const int *lda, const double *beta, double *c, const int *ldc);
+void daxpy_(const int *n, const double *alpha, const double *x, const int *incx, double *y, const int *incy);
 void dgemv_(const char *trans, const int *m, const int *n, const double *alpha, const double *a,
             const int *lda, const double *x, const int *incx, const double *beta, double *y, const int *incy);
 void dgemm_(const char *transa, const char *transb, const int *m, const int *n, const int *k, const double *alpha,
@@ -428,14 +436,6 @@ long delassus(KNM<double> *const &pDw) {
   return 0;
 }
 
-long augmentation(KN<double> *const &pr) {
-  requireNodes("contactKernelAugmentation");
-  KN<double> &r = *pr;
-  if (r.N() != L.n) ExecError("contactKernelAugmentation: one value per slot expected");
-  for (int j = 0; j < L.n; j++) L.setAugmentation(j, r[j]);
-  return 0;
-}
-
 long solve(KN<double> *const &pb, KN<double> *const &px) {
   requireFactor("contactKernelSolve");
   KN<double> &b = *pb, &x = *px;
@@ -770,12 +770,9 @@ struct Newton {
   std::vector<int> pivots, Kpivots, changed, baseS, preparedS;
   std::vector<double> baseA, baseD, preparedA, preparedD;
   bool haveBase = false;
-  long cuts = 0, halvings = 0, factorizations = 0, corrections = 0;
+  long factorizations = 0, corrections = 0, refinements = 0;
+  long fallbacks = 0;                  // iterates the safeguard replaced by a fixed-point iteration
   long generation = -1;                // the factor the base matrix belongs to
-  // the cycle guard: a fingerprint of the relations at each iteration of the step
-  std::vector<double> seen;
-  std::vector<double> rDefault;        // r_j at the start of a step
-  double merit = 0;                    // of the last accepted iterate
 };
 Newton Q;
 
@@ -786,6 +783,70 @@ void velocities(const double *cFree, const double *m, double *c) {
   std::copy(cFree, cFree + nc, c);
   dgemv_("N", &nc, &nc, &minusOne, F.Dw.data(), &nc, m, &inc, &one, c, &inc);
 }
+
+// ---------------------------------------------------------------- the fixed point
+// Projected Gauss-Seidel over the slots (nonsmooth Gauss-Seidel): each slot in turn solves its
+// own law exactly, with the other slots' multipliers held. With c = cFree - Dw m, a change of
+// m_j moves c_j by -Dw_jj times it, so y = Lambda_j + rho_j c_j with rho_j = 1/Dw_jj - Kn_j
+// equals m_j + c_j/Dw_jj whatever m_j is: the law's piece at y (Slots::resolve, with the local
+// augmentation rho_j) gives the slot's new stress and velocity at once. A tangential slot reads
+// its normal partner's current velocity for its bound. No parameter to tune: rho_j is exact.
+// The map G of one iteration is a forward sweep then a backward one (symmetric Gauss-Seidel);
+// contactKernelFixedPoint accelerates it (Anderson), and Newton falls back on it.
+struct FixedPoint {
+  std::vector<double> rho;              // the local augmentations 1/Dw_jj - Kn_j
+  long generation = -1;                 // the Delassus matrix they belong to
+  double omega = 1;                     // relaxation of each slot's update
+  int window = 10;                      // Anderson acceleration's window (0: none)
+  long sweeps = 0, restarts = 0;        // over the run
+};
+FixedPoint FP;
+
+void fixedPointPrepare() {
+  if (FP.generation == F.delassusGeneration) return;
+  const int nc = F.nc;
+  FP.rho.assign(nc, 0.);
+  for (int j = 0; j < nc; j++) {
+    const double djj = F.Dw[j + (size_t)j * nc];
+    // Dw_jj Kn_j < 1 (S holds W Kn C'C): the floor only guards round-off
+    FP.rho[j] = std::max(1. / djj - L.Kn[j], 1e-3 / djj);
+  }
+  FP.generation = F.delassusGeneration;
+  if (const char *w = std::getenv("CONTACT_FP_OMEGA")) FP.omega = std::atof(w);
+  if (const char *w = std::getenv("CONTACT_FP_WINDOW")) FP.window = std::atoi(w);
+}
+
+// one sweep over the slots, forward or backward; c = cFree - Dw m follows m
+void fixedPointSweep(bool forward, double *c, double *m) {
+  const int nc = F.nc, inc = 1;
+  for (int k = 0; k < nc; k++) {
+    const int j = forward ? k : nc - 1 - k;
+    const double *column = F.Dw.data() + (size_t)j * nc;
+    const double y = m[j] + c[j] / column[j];
+    double t = 0, v = 0;
+    L.resolve(j, y, FP.rho[j], c, t, v);
+    const double cj = (y - t) / FP.rho[j];
+    const double delta = FP.omega * (t - L.Kn[j] * cj - m[j]);
+    if (delta == 0) continue;
+    m[j] += delta;
+    const double minus = -delta;
+    daxpy_(&nc, &minus, column, &inc, c, &inc);
+  }
+  FP.sweeps++;
+}
+
+// One iteration of the map G from m (c is recomputed from m): the forward and backward sweeps;
+// returns the natural residual at the new (c, m) (the law's last evaluation is theirs).
+double fixedPointIteration(const double *cFree, double *c, double *m) {
+  fixedPointPrepare();
+  velocities(cFree, m, c);
+  fixedPointSweep(true, c, m);
+  fixedPointSweep(false, c, m);
+  velocities(cFree, m, c);
+  Q.fallbacks++;
+  return L.evaluate(c, m);
+}
+
 
 // LU of N0 = the Newton matrix of the current relations
 bool newtonFactorBase() {
@@ -847,69 +908,74 @@ bool newtonPrepare() {
   return true;
 }
 
-// x = N^-1 b with N0's factors and the correction; the corrected solve is checked by its
-// residual, row by row, against the size of the row's terms (falls back to a factorization).
-bool newtonSolve(const double *b, double *x) {
-  const int nc = F.nc, one = 1, inc = 1;
+// x = N^-1 b with N0's factors and the correction. The corrected solve is checked by its
+// residual, row by row, against the size of the row's terms: above 1e-13, one step of
+// iterative refinement (the correction loses digits on badly conditioned matrices, at small r);
+// still above 1e-11, N0 is factorized again.
+void correctedSolve(double *x) {
+  const int nc = F.nc, one = 1, inc = 1, r = Q.changed.size();
   int info = 0;
-  std::copy(b, b + nc, x);
   dgetrs_("N", &nc, &one, Q.N0.data(), &nc, Q.pivots.data(), x, &nc, &info);
-  const int r = Q.changed.size();
-  if (r == 0) return info == 0;
-  std::vector<double> t(r, 0.), Dx(nc, 0.);
+  if (r == 0) return;
+  std::vector<double> t(r, 0.);
   const double plus = 1., minus = -1., zero = 0.;
   dgemv_("N", &r, &nc, &plus, Q.Delta.data(), &r, x, &inc, &zero, t.data(), &inc);
   dgetrs_("N", &r, &one, Q.K.data(), &r, Q.Kpivots.data(), t.data(), &r, &info);
   dgemv_("N", &nc, &r, &minus, Q.Y.data(), &nc, t.data(), &inc, &plus, x, &inc);
+}
+// the largest row residual of N x = b relative to the row's terms; the residuals in res
+double rowResidual(const double *b, const double *x, double *res) {
+  const int nc = F.nc, inc = 1;
+  std::vector<double> Dx(nc, 0.);
+  const double plus = 1., zero = 0.;
   dgemv_("N", &nc, &nc, &plus, F.Dw.data(), &nc, x, &inc, &zero, Dx.data(), &inc);
+  double worst = 0;
   for (int j = 0; j < nc; j++) {
-    double a = -L.a[j] * Dx[L.slot[j]], d = L.d[j] * x[j];
-    double scale = std::fabs(b[j]) + std::fabs(a) + std::fabs(d);
-    if (!(std::fabs(a + d - b[j]) <= 1e-11 * scale)) {
-      if (!newtonFactorBase()) return false;
-      std::copy(b, b + nc, x);
-      dgetrs_("N", &nc, &one, Q.N0.data(), &nc, Q.pivots.data(), x, &nc, &info);
-      return info == 0;
-    }
+    const double a = -L.a[j] * Dx[L.slot[j]], d = L.d[j] * x[j];
+    const double scale = std::fabs(b[j]) + std::fabs(a) + std::fabs(d);
+    res[j] = b[j] - a - d;
+    const double relative = std::fabs(res[j]) / scale;
+    if (!(relative <= worst)) worst = scale > 0 || res[j] != 0 ? relative : 0.;
+  }
+  return worst;
+}
+bool newtonSolve(const double *b, double *x) {
+  const int nc = F.nc, one = 1;
+  std::copy(b, b + nc, x);
+  if (Q.changed.empty()) {
+    int info = 0;
+    dgetrs_("N", &nc, &one, Q.N0.data(), &nc, Q.pivots.data(), x, &nc, &info);
+    return info == 0;
+  }
+  correctedSolve(x);
+  std::vector<double> res(nc);
+  double worst = rowResidual(b, x, res.data());
+  if (worst > 1e-13) {                               // refine once
+    correctedSolve(res.data());
+    for (int j = 0; j < nc; j++) x[j] += res[j];
+    Q.refinements++;
+    worst = rowResidual(b, x, res.data());
+  }
+  if (!(worst <= 1e-11)) {
+    if (!newtonFactorBase()) return false;
+    std::copy(b, b + nc, x);
+    int info = 0;
+    dgetrs_("N", &nc, &one, Q.N0.data(), &nc, Q.pivots.data(), x, &nc, &info);
+    return info == 0;
   }
   return true;
 }
 
-// The safeguards, shared by every Newton (compiled here, or the script view and the
-// full-system Newton of edp/lib/solvers.idp).
-// Cycle guard: the relations of iteration it are fingerprinted (the pieces, and the
-// coefficients for a nonlinear p); when a fingerprint repeats within the step, r is halved on
-// every slot for the rest of the step (the solution does not depend on r, only which piece is
-// tried next). The weights are fixed pseudo-random numbers in [1, 1009].
-int guard(int it) {
-  if ((int)Q.seen.size() < it + 1) Q.seen.resize(it + 1, -1.);
-  if (it == 0) { std::fill(Q.seen.begin(), Q.seen.end(), -1.); Q.rDefault = L.r; }
-  double fingerprint = 0;
-  for (int j = 0; j < L.n; j++)
-    fingerprint += (L.key[j] + 0.6180339887 * L.a[j] + 0.4142135624 * L.d[j]) * (1. + ((7919 * j + 104729) % 1009));
-  int halved = 0;
-  if (SP.safeguards)
-    for (int k = 0; k < it; k++)
-      if (Q.seen[k] == fingerprint) {
-        for (int j = 0; j < L.n; j++) L.setAugmentation(j, 0.5 * L.r[j]);
-        Q.halvings++;
-        std::fill(Q.seen.begin(), Q.seen.end(), -1.);
-        halved = 1;
-        break;
-      }
-  Q.seen[it] = fingerprint;
-  return halved;
-}
-// Line search: a step of the Newton direction (1, 1/2, ... 1/1024) is accepted when the merit
-// ||Phi||_2 of the weighted residual decreases (Armijo, 1e-4), or the residual meets tol, or
-// at the tenth cut; the last evaluation must be the trial iterate's.
-bool accept(double merit, double step, int cut, double residual) {
-  const bool ok = !SP.safeguards || L.merit() < (1 - 1e-4 * step) * merit || residual <= SP.tol || cut == 10;
-  if (!ok) Q.cuts++;
-  return ok;
-}
-void endStep() {
-  if (!Q.rDefault.empty() && Q.rDefault != L.r) for (int j = 0; j < L.n; j++) L.setAugmentation(j, Q.rDefault[j]);
+// The safeguard, shared by every Newton (compiled here, or the script view and the full-system
+// Newton of edp/lib/solvers.idp): a Newton iterate is kept when it lowers the merit ||Phi||_2 of
+// the weighted natural residual (Armijo, 1e-4) or meets tol; otherwise the solver goes back to
+// the previous iterate and takes one fixed-point iteration (fixedPointIteration) instead. The
+// fixed point converges for every r, so Newton does too; near the solution the Newton iterates
+// pass the test and convergence stays quadratic. (A line search along the Newton direction,
+// and halving r on a cycle, were tried first: docs/stability.md.) The last evaluation must be
+// the trial iterate's.
+bool accept(double merit, double residual) {
+  return !SP.safeguards || L.merit() < (1 - 1e-4) * merit || residual <= SP.tol;
 }
 
 // -verbose: one line an iteration on the standard error, the residual and how many slots entered
@@ -919,7 +985,7 @@ void endStep() {
 // of the iterate; the first call says what the slots are.
 std::vector<int> loggedPieces;
 bool logExplained = false;
-void logIteration(int it, double residual, double step = 1) {
+void logIteration(int it, double residual, bool newtonKept = true) {
   if (!SP.verbose) return;
   if (!logExplained) {
     int normal = 0;
@@ -941,9 +1007,7 @@ void logIteration(int it, double residual, double step = 1) {
   char number[32];
   std::snprintf(number, sizeof number, "%.3e", residual);
   line += std::string(first ? " (the previous step's multipliers, this step's load)" : "") + ": residual " + number;
-  if (step < 1. / 1000)
-    line += " (line search: the merit did not fall at any of 10 cuts; the step 1024 times shorter is taken)";
-  else if (step < 1) line += " (line search: step " + std::to_string((int)std::lround(1 / step)) + " times shorter)";
+  if (!newtonKept) line += " (the Newton iterate did not lower the merit: one fixed-point iteration instead)";
   line += first ? "; slots:" : "; changed:";
   int shown = 0;
   for (int k = 0; k < 5; k++) {
@@ -965,7 +1029,7 @@ long newton(KN<double> *const &pcFree, KN<double> *const &pc, KN<double> *const 
   const int nc = F.nc;
   KN<double> &cFreeK = *pcFree, &cK = *pc, &mK = *pm, &info = *pinfo;
   if (cFreeK.N() != nc || cK.N() != nc || mK.N() != nc) ExecError("contactKernelNewton: one value per slot expected");
-  std::vector<double> cFree(nc), c(nc), m(nc), cStart(nc), previous(nc), newtonM(nc), rhs(nc), d(nc);
+  std::vector<double> cFree(nc), c(nc), m(nc), cStart(nc), previous(nc), rhs(nc);
   for (int j = 0; j < nc; j++) { cFree[j] = cFreeK[j]; c[j] = cK[j]; m[j] = mK[j]; }
   // merit at the previous stresses with this step's cFree; first pieces from the previous solution
   velocities(cFree.data(), m.data(), cStart.data());
@@ -976,30 +1040,112 @@ long newton(KN<double> *const &pcFree, KN<double> *const &pc, KN<double> *const 
   int it = 0;
   while (true) {
     L.relations(c.data());
-    guard(it);
     if (!sameAsPrepared() && !newtonPrepare()) { residual = NAN; break; }
     for (int j = 0; j < nc; j++) rhs[j] = L.h[j] - L.a[j] * cFree[L.slot[j]];
     previous = m;
-    if (!newtonSolve(rhs.data(), newtonM.data())) { residual = NAN; break; }
-    for (int j = 0; j < nc; j++) d[j] = newtonM[j] - previous[j];
-    double step = 1;
-    for (int cut = 0; cut <= 10; cut++) {
-      for (int j = 0; j < nc; j++) m[j] = previous[j] + step * d[j];
-      velocities(cFree.data(), m.data(), c.data());
-      residual = L.evaluate(c.data(), m.data());
-      if (accept(merit, step, cut, residual)) break;
-      step *= 0.5;
+    if (!newtonSolve(rhs.data(), m.data())) { residual = NAN; break; }
+    velocities(cFree.data(), m.data(), c.data());
+    residual = L.evaluate(c.data(), m.data());
+    const bool kept = accept(merit, residual);
+    if (!kept) {
+      m = previous;
+      residual = fixedPointIteration(cFree.data(), c.data(), m.data());
     }
     merit = L.merit();
     it++;
-    logIteration(it, residual, step);
+    logIteration(it, residual, kept);
     if (residual <= SP.tol || it >= SP.maxit || std::isnan(residual) || std::isinf(residual)) break;
   }
-  endStep();
   for (int j = 0; j < nc; j++) { cK[j] = c[j]; mK[j] = m[j]; }
   if (info.N() != 2) info.resize(2);
   info[0] = residual; info[1] = it;
   return residual <= SP.tol ? it : -1;
+}
+
+// Anderson-accelerated fixed point: m <- G(m), G the symmetric sweep above; the new iterate
+// mixes the last FP.window iterates to minimise G(m) - m, and is kept only when its natural
+// residual is below G's (else the history restarts). The test is Newton's natural residual.
+long fixedPoint(KN<double> *const &pcFree, KN<double> *const &pc, KN<double> *const &pm, KN<double> *const &pinfo) {
+  requireSolver("contactKernelFixedPoint");
+  const int nc = F.nc;
+  KN<double> &cFreeK = *pcFree, &cK = *pc, &mK = *pm, &info = *pinfo;
+  if (cFreeK.N() != nc || cK.N() != nc || mK.N() != nc) ExecError("contactKernelFixedPoint: one value per slot expected");
+  fixedPointPrepare();
+  std::vector<double> cFree(nc), c(nc), m(nc);
+  for (int j = 0; j < nc; j++) { cFree[j] = cFreeK[j]; m[j] = mK[j]; }
+  auto exactVelocities = [&]() { velocities(cFree.data(), m.data(), c.data()); };
+  exactVelocities();
+  double residual = L.evaluate(c.data(), m.data());
+  logIteration(0, residual);
+  // Anderson acceleration of the map G: m -> two sweeps (forward, backward), window FP.window
+  const int window = FP.window;
+  std::vector<double> dX, dF, xPrev(nc), fPrev(nc), x(nc), f(nc), gm(nc), gc(nc);
+  int stored = 0, head = 0;
+  bool havePrev = false;
+  int it = 0;
+  while (!(residual <= SP.tol) && it < SP.maxit && std::isfinite(residual)) {
+    x = m;
+    fixedPointSweep(true, c.data(), m.data());
+    fixedPointSweep(false, c.data(), m.data());
+    it++;
+    if (it % 25 == 0) exactVelocities();             // the updates' round-off does not pile up
+    residual = L.evaluate(c.data(), m.data());
+    if (residual <= SP.tol) { exactVelocities(); residual = L.evaluate(c.data(), m.data()); }
+    if (window > 0 && !(residual <= SP.tol) && std::isfinite(residual)) {
+      for (int j = 0; j < nc; j++) f[j] = m[j] - x[j];
+      if (havePrev) {
+        if ((int)dX.size() < window * nc) { dX.resize((size_t)window * nc); dF.resize((size_t)window * nc); }
+        for (int j = 0; j < nc; j++) { dX[head * nc + j] = x[j] - xPrev[j]; dF[head * nc + j] = f[j] - fPrev[j]; }
+        head = (head + 1) % window;
+        stored = std::min(stored + 1, window);
+      }
+      xPrev = x; fPrev = f; havePrev = true;
+      if (stored > 0) {
+        // gamma = argmin |f - dF gamma| (normal equations, regularized)
+        const int w = stored;
+        std::vector<double> A((size_t)w * w), rhs(w);
+        double trace = 0;
+        for (int a = 0; a < w; a++) {
+          for (int b = 0; b < w; b++) {
+            double sum = 0;
+            for (int j = 0; j < nc; j++) sum += dF[a * nc + j] * dF[b * nc + j];
+            A[a + (size_t)b * w] = sum;
+          }
+          double sum = 0;
+          for (int j = 0; j < nc; j++) sum += dF[a * nc + j] * f[j];
+          rhs[a] = sum;
+          trace += A[a + (size_t)a * w];
+        }
+        for (int a = 0; a < w; a++) A[a + (size_t)a * w] += 1e-12 * trace + 1e-300;
+        std::vector<int> piv(w);
+        int one = 1, info2 = 0;
+        dgetrf_(&w, &w, A.data(), &w, piv.data(), &info2);
+        if (info2 == 0) dgetrs_("N", &w, &one, A.data(), &w, piv.data(), rhs.data(), &w, &info2);
+        if (info2 == 0) {
+          gm = m; gc = c;
+          for (int j = 0; j < nc; j++) {
+            double s = 0;
+            for (int a = 0; a < w; a++) s += (dX[a * nc + j] + dF[a * nc + j]) * rhs[a];
+            m[j] = gm[j] - s;
+          }
+          exactVelocities();
+          const double accelerated = L.evaluate(c.data(), m.data());
+          if (accelerated <= residual) residual = accelerated;
+          else {                                     // not better: keep G's iterate, forget the history
+            m = gm; c = gc;
+            residual = L.evaluate(c.data(), m.data());
+            stored = 0; head = 0; havePrev = false;
+            FP.restarts++;
+          }
+        }
+      }
+    }
+    logIteration(it, residual);
+  }
+  for (int j = 0; j < nc; j++) { cK[j] = c[j]; mK[j] = m[j]; }
+  if (info.N() != 2) info.resize(2);
+  info[0] = residual; info[1] = it;
+  return residual <= SP.tol ? std::max(it, 1) : -1;
 }
 
 // ---------------------------------------------------------------- the law for the script solvers
@@ -1028,23 +1174,30 @@ long lawRelations(KN<double> *const &pc, KN<double> *const &pa, KN<double> *cons
 }
 
 double lawMerit() { return L.merit(); }
-long newtonLog(const long &it, const double &residual, const double &step) {
+long newtonLog(const long &it, const double &residual, const long &kept) {
   requireNodes("contactNewtonLog");
-  logIteration((int)it, residual, step);
+  logIteration((int)it, residual, kept != 0);
   return 0;
 }
-long newtonGuard(const long &it) { requireNodes("contactNewtonGuard"); return guard((int)it); }
-long newtonAccept(const double &merit, const double &step, const long &cut) {
+long newtonAccept(const double &merit) {
   double worst = 0;
   for (int j = 0; j < L.n; j++) { worst = std::max(worst, std::fabs(L.mismatch[j])); if (std::isnan(L.mismatch[j])) worst = NAN; }
-  return accept(merit, step, (int)cut, worst) ? 1 : 0;
+  return accept(merit, worst) ? 1 : 0;
 }
-long newtonEnd() { endStep(); return 0; }
+double fixedPointIterationScript(KN<double> *const &pcFree, KN<double> *const &pc, KN<double> *const &pm) {
+  requireSolver("contactFixedPointIteration");
+  KN<double> &cFreeK = *pcFree, &cK = *pc, &mK = *pm;
+  if (cFreeK.N() != F.nc || cK.N() != F.nc || mK.N() != F.nc) ExecError("contactFixedPointIteration: one value per slot expected");
+  std::vector<double> cFree = copyOf(cFreeK), c(F.nc), m = copyOf(mK);
+  const double residual = fixedPointIteration(cFree.data(), c.data(), m.data());
+  for (int j = 0; j < F.nc; j++) { cK[j] = c[j]; mK[j] = m[j]; }
+  return residual;
+}
 
 long counters(KN<double> *const &pinfo) {
   KN<double> &info = *pinfo;
-  info.resize(4);
-  info[0] = Q.cuts; info[1] = Q.halvings; info[2] = Q.factorizations; info[3] = Q.corrections;
+  info.resize(5);
+  info[0] = Q.fallbacks; info[1] = FP.sweeps; info[2] = Q.factorizations; info[3] = Q.corrections; info[4] = Q.refinements;
   return 0;
 }
 
@@ -1093,7 +1246,6 @@ static void Load_Init() {
   Global.Add("contactKernelFactorize", "(", new OneOperator2_<long, Matrice_Creuse<double> *, Matrice_Creuse<double> *>(factorize));
   Global.Add("contactKernelDelassus", "(", new OneOperator1_<long, KNM<double> *>(delassus));
   Global.Add("contactKernelLargestEntry", "(", new OneOperator1_<double, Matrice_Creuse<double> *>(largestEntry));
-  Global.Add("contactKernelAugmentation", "(", new OneOperator1_<long, KN<double> *>(augmentation));
   Global.Add("contactKernelSolve", "(", new OneOperator2_<long, KN<double> *, KN<double> *>(solve));
   Global.Add("contactKernelFree", "(", new OneOperator2_<long, KN<double> *, KN<double> *>(freeVelocity));
   Global.Add("contactKernelFinish", "(", new OneOperator2_<long, KN<double> *, KN<double> *>(finish));
@@ -1106,13 +1258,13 @@ static void Load_Init() {
   Global.Add("contactKernelAppendNodes", "(",
              new OneOperator6_<long, string *, long, double, KN<double> *, KN<double> *, KNM<double> *>(appendNodes));
   Global.Add("contactKernelNewton", "(", new OneOperator4_<long, KN<double> *, KN<double> *, KN<double> *, KN<double> *>(newton));
+  Global.Add("contactKernelFixedPoint", "(", new OneOperator4_<long, KN<double> *, KN<double> *, KN<double> *, KN<double> *>(fixedPoint));
   Global.Add("contactLawEvaluate", "(", new OneOperator3_<double, KN<double> *, KN<double> *, KN<double> *>(lawEvaluate));
   Global.Add("contactLawRelations", "(", new OneOperator5_<long, KN<double> *, KN<double> *, KN<double> *, KN<double> *, KN<long> *>(lawRelations));
   Global.Add("contactLawMerit", "(", new OneOperator0<double>(lawMerit));
-  Global.Add("contactNewtonGuard", "(", new OneOperator1_<long, long>(newtonGuard));
-  Global.Add("contactNewtonLog", "(", new OneOperator3_<long, long, double, double>(newtonLog));
-  Global.Add("contactNewtonAccept", "(", new OneOperator3_<long, double, double, long>(newtonAccept));
-  Global.Add("contactNewtonEnd", "(", new OneOperator0<long>(newtonEnd));
+  Global.Add("contactNewtonLog", "(", new OneOperator3_<long, long, double, long>(newtonLog));
+  Global.Add("contactNewtonAccept", "(", new OneOperator1_<long, double>(newtonAccept));
+  Global.Add("contactFixedPointIteration", "(", new OneOperator3_<double, KN<double> *, KN<double> *, KN<double> *>(fixedPointIterationScript));
   Global.Add("contactKernelCounters", "(", new OneOperator1_<long, KN<double> *>(counters));
   Global.Add("contactKernelSourcesChanged", "(", new OneOperator1_<long, string *>(sourcesChanged));
 }

@@ -159,6 +159,33 @@ struct Slots {
     return v;
   }
 
+  // The piece of slot j at yj = Lambda_j + rj c_j, for any rj > 0: returns the piece, sets t to the
+  // stress it gives and v to the resolvent's velocity (Damped and Bound pieces; else unchanged).
+  // c: the slot velocities (a tangential slot reads its partner's). Every solver goes through
+  // here: Newton with its r_j (evaluate below), the fixed point with each slot's exact local r.
+  int resolve(int j, double yj, double rj, const double *c, double &t, double &v) const {
+    if (normal[j]) {
+      const double pg = dampedResponse(P, g[j]);
+      if (yj <= 0) { t = 0.; return Free; }
+      if (yj < pg + rj * g[j]) {
+        const double slope = dampedResponseSlope(P, g[j]);      // exact start for a linear p
+        v = solveResolvent(0., rj, yj, g[j], yj / (slope + rj));
+        t = dampedResponse(P, v);
+        return Damped;
+      }
+      if (!P.penalty) { v = g[j]; t = yj - rj * g[j]; return Bound; }
+      const double s = 1. / P.eps + rj, b = yj - rj * g[j] - pg;  // penalty: v = g + overshoot
+      const double slope = dampedResponseSlope(P, g[j]);
+      const double over = solveResolvent(g[j], s, b, b / s, b / (slope + s));
+      v = g[j] + over;
+      t = (yj - rj * g[j]) - rj * over;
+      return Bound;
+    }
+    const double s = partner[j] >= 0 ? frictionBound(P, c[partner[j]]) : 0.;
+    t = std::max(-s, std::min(s, yj));
+    return (s > 0 && std::fabs(yj) <= s) ? Stick : Slip;
+  }
+
   // pieces, targets and the weighted natural residual (max norm; NaN if any is NaN) at (c, m).
   // A slot's mismatch Lambda - target is weighted by residualWeight, unless its terms are so
   // large (a body moving at many times g, a free flight) that their round-off would exceed
@@ -168,34 +195,13 @@ struct Slots {
     for (int j = 0; j < n; j++) {
       const double lambda = Kn[j] * c[j] + m[j], yj = lambda + r[j] * c[j];
       stress[j] = lambda; y[j] = yj;
-      int p;
-      double t;
-      if (normal[j]) {
-        const double pg = dampedResponse(P, g[j]);
-        if (yj <= 0) { p = Free; t = 0.; }
-        else if (yj < pg + r[j] * g[j]) {
-          p = Damped;
-          const double slope = dampedResponseSlope(P, g[j]);    // exact start for a linear p
-          velocity[j] = solveResolvent(0., r[j], yj, g[j], yj / (slope + r[j]));
-          t = dampedResponse(P, velocity[j]);
-        }
-        else if (!P.penalty) { p = Bound; velocity[j] = g[j]; t = yj - r[j] * g[j]; }
-        else {                                                 // penalty: v = g + overshoot
-          p = Bound;
-          const double s = 1. / P.eps + r[j], b = yj - r[j] * g[j] - pg;
-          const double slope = dampedResponseSlope(P, g[j]);
-          const double over = solveResolvent(g[j], s, b, b / s, b / (slope + s));
-          velocity[j] = g[j] + over;
-          t = (yj - r[j] * g[j]) - r[j] * over;
-        }
-      }
+      double t = 0;
+      const int p = resolve(j, yj, r[j], c, t, velocity[j]);
+      if (normal[j]) key[j] = 4 * p;
       else {
         const double s = partner[j] >= 0 ? frictionBound(P, c[partner[j]]) : 0.;
-        p = (s > 0 && std::fabs(yj) <= s) ? Stick : Slip;
-        t = std::max(-s, std::min(s, yj));
         key[j] = 4 * p + (p == Slip ? 2 * (yj > 0) + (s > 0) : 0);
       }
-      if (normal[j]) key[j] = 4 * p;
       piece[j] = p;
       target[j] = t;
       double weight = residualWeight[j];

@@ -2,8 +2,8 @@
 """Tables and charts of the benchmark (tests/bench.sh, ./run.sh bench).
 
 Reads the run folders DIR/runs/NAME that tests/bench.sh makes (summary.txt of edp/solve.edp,
-NAME.time with the wall seconds and peak memory of the process, NAME.error from
-edp/compare.edp) and writes into DIR
+NAME.time with the wall seconds and peak memory of the process, NAME.error and
+NAME.solver_error from edp/compare.edp) and writes into DIR
   steps.txt, iterations.txt, work_precision.txt   (plain text, '#' header naming the columns)
   bench_cost_per_step.png, bench_work_precision.png, bench_iterations.png
 Usage: bench.py --bench DIR --reference RUN_DIR
@@ -32,10 +32,11 @@ def run_record(bench, name):
         except (ValueError, IndexError):
             pass
     record["wall"], record["peak_MB"] = wall, peak
-    record["error"] = {}
-    if os.path.isfile(folder + ".error"):
-        words = open(folder + ".error").read().split()
-        record["error"] = {words[i]: float(words[i + 1]) for i in range(0, len(words) - 1, 2)}
+    for key, suffix in (("error", ".error"), ("solver_error", ".solver_error")):
+        record[key] = {}
+        if os.path.isfile(folder + suffix):
+            words = open(folder + suffix).read().split()
+            record[key] = {words[i]: float(words[i + 1]) for i in range(0, len(words) - 1, 2)}
     return record
 
 
@@ -87,17 +88,24 @@ def steps_table(bench):
 def iterations_table(bench):
     rows = []
     for name in all_names(bench, "iterations-"):
-        m = re.match(r"iterations-(\w+)-r(.*)", name)
+        m = re.match(r"iterations-(\d+x\d+)-(\w+)-r(.*)", name)
+        if not m:
+            continue
         r = run_record(bench, name)
         steps = value(r, "steps")
-        rows.append([m.group(1), float(m.group(2)), int(r["converged"]),
+        backsub, median = value(r, "time_backsubstitution"), value(r, "time_step_median")
+        rows.append([m.group(2), m.group(1), float(m.group(3)), int(r["converged"]),
                      value(r, "iterations_total") / steps if steps > 0 else NAN, value(r, "iterations_max"),
-                     value(r, "time_loop"), int(value(r, "augmentation_halvings")) if r["converged"] else -1,
-                     int(value(r, "line_search_cuts")) if r["converged"] else -1])
-    columns = "mode r converged iterations_mean iterations_max time_loop augmentation_halvings line_search_cuts".split()
+                     median, backsub, median / backsub if backsub > 0 else NAN,
+                     int(value(r, "newton_fallbacks")) if r["converged"] else -1,
+                     int(value(r, "fixed_point_sweeps")) if r["converged"] else -1])
+    columns = ("mode mesh r converged iterations_mean iterations_max time_step_median time_backsubstitution "
+               "step_over_floor newton_fallbacks fixed_point_sweeps").split()
     suite.write_table(os.path.join(bench, "iterations.txt"),
-                      ["iterations per step against the augmentation factor r (r_j = r/(Dw)_jj for Newton, r/(D0)_jj",
-                       "for the fixed point), paper mesh; the fixed point on 5 steps (T = 0.05)"], columns, rows)
+                      ["iterations and cost per step against the augmentation factor r (r_j = r/(Dw)_jj; for the fixed",
+                       "point r only sets the natural residual it is tested with), T = 1, k = 0.01; step_over_floor =",
+                       "time_step_median / time_backsubstitution (CPU seconds, same run); converged 0: exit 4 at the cap",
+                       "(Newton 200, fixed point 2000)"], columns, rows)
     return columns, rows
 
 
@@ -106,14 +114,19 @@ def work_precision_table(bench, reference):
     for name in all_names(bench, "wp-"):
         r = run_record(bench, name)
         family = name.split("-")[1]
-        e = r["error"]
+        if family == "tol":                              # wp-tol-SOLVER-TOL
+            family = "tol-" + name.split("-")[2]
+        e, se = r["error"], r["solver_error"]
         rel = e.get("error_L2", NAN) / e["norm_L2"] if e.get("norm_L2") else NAN
-        rows.append([name, family, int(r["converged"]), r["wall"], e.get("error_L2", NAN), rel, e.get("error_gamma3", NAN)])
-    columns = "run family converged wall error_L2 relative_error_L2 error_gamma3".split()
+        srel = se.get("error_L2", NAN) / se["norm_L2"] if se.get("norm_L2") else NAN
+        rows.append([name, family, int(r["converged"]), r["wall"], e.get("error_L2", NAN), rel, e.get("error_gamma3", NAN),
+                     srel])
+    columns = "run family converged wall error_L2 relative_error_L2 error_gamma3 relative_solver_error_L2".split()
     suite.write_table(os.path.join(bench, "work_precision.txt"),
                       [f"error at T against the reference {os.path.basename(reference)} (edp/compare.edp:",
                        "||v - v_ref||_L2(Omega) with the consistent mass matrix of the reference mesh, and max |dv_nu| on",
-                       "Gamma3), against the wall seconds of the whole process"], columns, rows)
+                       "Gamma3), against the wall seconds of the whole process; relative_solver_error_L2 (the tol family",
+                       "only): the same distance to the 66x33 run solved to tol 1e-13, relative"], columns, rows)
     return columns, rows
 
 
@@ -134,7 +147,7 @@ def chart_cost_per_step(bench, columns, rows):
                                    (("fixedpoint", "original"), "v-")):
         pts = sorted((r[c["dofs"]], r[c["time_step_median"]]) for r in rows
                      if r[c["mode"]] == mode and r[c["problem"]] == problem and r[c["converged"]]
-                     and not r[c["run"]].endswith("T0.05"))
+                     )
         if pts:
             left.loglog(*zip(*pts), style, label=f"{mode}, {problem}")
             highest = max(highest, max(p[1] for p in pts))
@@ -172,46 +185,68 @@ def parameter_order(name):
 
 def chart_work_precision(bench, columns, rows):
     c = {name: i for i, name in enumerate(columns)}
-    fig, ax = plt.subplots(figsize=(7, 4.5))
+    fig, (ax, solver_ax) = plt.subplots(1, 2, figsize=(12, 4.5))
     labels = {"mesh": "mesh h (k = 0.01)", "dt": "time step k (66x33)", "full": "full-system Newton (66x33)",
-              "penalty": "penalty eps (66x33, against the original reference)"}
+              "penalty": "penalty eps (66x33, against the original reference)",
+              "tol-newton": "Newton, tol 1e-4 ... 1e-10 (66x33)", "tol-fixedpoint": "fixed point, tol 1e-4 ... 1e-10 (66x33)"}
     # label offsets per family, so that the labels around the 66x33 point do not overlap
     offsets = {"mesh": ((3, 3), "left"), "dt": ((3, -10), "left"), "full": ((3, 3), "left"),
-               "penalty": ((-4, 3), "right")}
-    for family, marker in (("mesh", "o-"), ("dt", "s-"), ("full", "^"), ("penalty", "v-")):
-        pts = sorted(((r[c["wall"]], r[c["relative_error_L2"]], r[c["run"]]) for r in rows
+               "penalty": ((-4, 3), "right"), "tol-newton": ((3, -8), "left"), "tol-fixedpoint": ((-4, -8), "right")}
+    for family, marker in (("mesh", "o-"), ("dt", "s-"), ("full", "^"), ("penalty", "v-"),
+                           ("tol-newton", "P-"), ("tol-fixedpoint", "X-")):
+        pts = sorted(((r[c["wall"]], r[c["relative_error_L2"]], r[c["run"]], r[c["relative_solver_error_L2"]]) for r in rows
                       if r[c["family"]] == family and r[c["converged"]] and not math.isnan(r[c["relative_error_L2"]])),
                      key=lambda p: parameter_order(p[2]))
         if not pts:
             continue
         ax.loglog([p[0] for p in pts], [p[1] for p in pts], marker, label=labels[family])
         for p in pts:
-            ax.annotate(p[2].split("-", 2)[-1], (p[0], p[1]), fontsize=6, xytext=offsets[family][0],
-                        textcoords="offset points", ha=offsets[family][1])
+            ax.annotate(p[2].split("-")[-1] if family.startswith("tol") else p[2].split("-", 2)[-1], (p[0], p[1]),
+                        fontsize=6, xytext=offsets[family][0], textcoords="offset points", ha=offsets[family][1])
+        if family.startswith("tol"):
+            sol = [p for p in pts if p[3] > 0]
+            if sol:
+                solver_ax.loglog([p[0] for p in sol], [p[3] for p in sol], marker, label=labels[family])
+                for p in sol:
+                    solver_ax.annotate("tol " + p[2].split("-")[-1], (p[0], p[3]), fontsize=6, xytext=(3, 3),
+                                       textcoords="offset points")
     ax.set_xlabel("wall seconds of the whole run (FreeFEM start-up included)")
     ax.set_ylabel(r"$\|v - v_{ref}\|_{L^2(\Omega)} / \|v_{ref}\|$ at T")
-    ax.set_title("work and precision")
+    ax.set_title("work and precision (against the fine reference)")
     ax.legend(fontsize=7)
+    solver_ax.set_xlabel("wall seconds of the whole run (66x33)")
+    solver_ax.set_ylabel("relative L2 distance at T to the same mesh at tol 1e-13")
+    solver_ax.set_title("what the tolerance buys each solver")
+    solver_ax.legend(fontsize=7)
     return suite.save(fig, bench, "bench_work_precision")
 
 
 def chart_iterations(bench, columns, rows):
     c = {name: i for i, name in enumerate(columns)}
-    fig, ax = plt.subplots(figsize=(7, 4.5))
-    for mode, style in (("newton", "o-"), ("fixedpoint", "s-")):
-        pts = sorted((r[c["r"]], r[c["iterations_mean"]], r[c["iterations_max"]], r[c["converged"]]) for r in rows
-                     if r[c["mode"]] == mode)
+    fig, (left, right) = plt.subplots(1, 2, figsize=(12, 4.5))
+    styles = {("newton", "66x33"): "o-", ("newton", "132x66"): "o--", ("fixedpoint", "66x33"): "s-",
+              ("fixedpoint", "132x66"): "s--"}
+    colors = {"newton": "tab:blue", "fixedpoint": "tab:green"}
+    for (mode, mesh), style in styles.items():
+        pts = sorted((r[c["r"]], r[c["iterations_mean"]], r[c["step_over_floor"]], r[c["converged"]]) for r in rows
+                     if r[c["mode"]] == mode and r[c["mesh"]] == mesh)
         ok = [p for p in pts if p[3]]
         if ok:
-            ax.loglog([p[0] for p in ok], [p[1] for p in ok], style, label=f"{mode}: mean per step")
-            ax.loglog([p[0] for p in ok], [p[2] for p in ok], style, alpha=0.4, label=f"{mode}: max per step")
+            left.loglog([p[0] for p in ok], [p[1] for p in ok], style, color=colors[mode], label=f"{mode}, {mesh}")
+            right.loglog([p[0] for p in ok], [p[2] for p in ok], style, color=colors[mode], label=f"{mode}, {mesh}")
         for p in pts:
             if not p[3]:
-                ax.axvline(p[0], color="tab:red" if mode == "newton" else "tab:orange", linestyle=":", linewidth=1)
-    ax.set_xlabel("augmentation factor r")
-    ax.set_ylabel("iterations per time step")
-    ax.set_title("Newton and fixed point against r (dotted: did not converge)")
-    ax.legend(fontsize=7)
+                for ax in (left, right):
+                    ax.axvline(p[0], color=colors[mode], linestyle=":", linewidth=1)
+    left.set_xlabel("augmentation factor r")
+    left.set_ylabel("iterations per time step (mean over the run)")
+    left.set_title("iterations against r (dotted: did not converge)")
+    left.legend(fontsize=7)
+    right.set_xlabel("augmentation factor r")
+    right.set_ylabel("median step / one back-substitution (same run)")
+    right.set_title("time per step against r, in floors")
+    right.axhline(2, color="0.6", linewidth=1)
+    right.legend(fontsize=7)
     return suite.save(fig, bench, "bench_iterations")
 
 
@@ -237,7 +272,13 @@ def main():
     wcolumns, wrows = work_precision_table(args.bench, args.reference)
     chart_work_precision(args.bench, wcolumns, wrows)
     for r in wrows:
-        print(f"  {r[0]:28s} wall {r[3]:7.2f} s  relative L2 error {r[5]:.3e}  max |dv_nu| on Gamma3 {r[6]:.3e}")
+        print(f"  {r[0]:28s} wall {r[3]:7.2f} s  relative L2 error {r[5]:.3e}  max |dv_nu| on Gamma3 {r[6]:.3e}"
+              + (f"  solver error {r[7]:.3e}" if not math.isnan(r[7]) else ""))
+    ic = {name: i for i, name in enumerate(icolumns)}
+    for r in irows:
+        print(f"  {r[ic['mode']]:10s} {r[ic['mesh']]:7s} r {r[ic['r']]:<7g} "
+              + (f"{r[ic['iterations_mean']]:6.2f} it/step (max {r[ic['iterations_max']]:.0f}), step/floor {r[ic['step_over_floor']]:.2f}"
+                 if r[ic["converged"]] else "did not converge"))
 
 
 if __name__ == "__main__":

@@ -7,7 +7,8 @@
 #   runs/NAME/          one folder per run (the outputs of edp/solve.edp), NAME.time
 #                       (wall seconds and peak memory of the whole process)
 #   steps.txt           cost per step and setup costs against the mesh, per solver mode
-#   iterations.txt      iterations per step against the augmentation r, Newton and fixed point
+#   iterations.txt      iterations and time per step against the augmentation r, Newton and
+#                       fixed point, on 66x33 and 132x66
 #   work_precision.txt  error against wall time for meshes, time steps, modes and eps
 #   *.png               the charts (plots/bench.py)
 # --quick: the two coarsest meshes and fewer points.
@@ -46,6 +47,7 @@ for m in "${meshes[@]}"; do
   for problem in original penalty; do
     run "steps-${1}x${2}-newton-$problem" -nx "$1" -ny "$2" -problem "$problem" -umfpackfloor on
   done
+  run "steps-${1}x${2}-fixedpoint-original" -nx "$1" -ny "$2" -solver fixedpoint
 done
 # The same Newton written in FreeFEM's language (-kernel script), on the two coarsest meshes.
 for m in "66 33" "132 66"; do
@@ -57,18 +59,16 @@ for m in "66 33" "132 66"; do
   set -- $m
   run "steps-${1}x${2}-full-original" -nx "$1" -ny "$2" -T 0.2 -solver full
 done
-# The fixed point converges only early in the run (README): 5 steps on the paper mesh.
-run "steps-66x33-fixedpoint-original" -T 0.05 -solver fixedpoint -maxit 100000
-run "steps-66x33-newton-original-T0.05" -T 0.05
-
-# ---- iterations against the augmentation r (paper mesh)
-for r in 0.01 0.1 1 10 100; do
-  run "iterations-newton-r$r" -r "$r" -maxit 200
+# ---- iterations and time per step against the augmentation r, both solvers, two meshes
+rlist=(1e-4 1e-3 1e-2 0.1 1 10 100 1e3 1e4)
+[ "$quick" = 1 ] && rlist=(1e-4 1 1e4)
+for m in "66 33" "132 66"; do
+  set -- $m
+  for r in "${rlist[@]}"; do
+    run "iterations-${1}x${2}-newton-r$r" -nx "$1" -ny "$2" -r "$r" -maxit 200
+    run "iterations-${1}x${2}-fixedpoint-r$r" -nx "$1" -ny "$2" -r "$r" -solver fixedpoint -maxit 2000
+  done
 done
-for r in 0.001 0.003 0.01 0.03; do
-  run "iterations-fixedpoint-r$r" -T 0.05 -solver fixedpoint -r "$r" -maxit 100000
-done
-
 # ---- work-precision: error against wall time, against a fine reference solution
 reference="528 264"; refdt=0.0025
 [ "$quick" = 1 ] && { reference="132 66"; refdt=0.005; }
@@ -85,12 +85,23 @@ for dt in 0.04 0.02 0.005; do
   run "wp-dt-$dt" -dt "$dt"
 done
 run "wp-full-66x33" -solver full
+# the tolerance: what a looser one buys each solver (66x33), against the fine reference and
+# against the same mesh solved to tol 1e-13 (the solver's own error)
+for tol in 1e-4 1e-6 1e-8 1e-10; do
+  run "wp-tol-newton-$tol" -tol "$tol"
+  run "wp-tol-fixedpoint-$tol" -tol "$tol" -solver fixedpoint
+done
+run "tight-66x33" -tol 1e-13
 for eps in 1e-2 1e-3 1e-4 1e-5; do
   run "wp-penalty-eps$eps" -problem penalty -eps "$eps"
 done
 for dir in "$out"/runs/wp-*; do
   [ -f "$dir/summary.txt" ] || continue
   FreeFem++-nw -ns -v 0 edp/compare.edp -a "$dir" -ref "$refdir" > "$dir.error" 2> /dev/null || true
+done
+for dir in "$out"/runs/wp-tol-*; do
+  [ -f "$dir/summary.txt" ] || continue
+  FreeFem++-nw -ns -v 0 edp/compare.edp -a "$dir" -ref "$out/runs/tight-66x33" > "$dir.solver_error" 2> /dev/null || true
 done
 
 "$PYTHON" plots/bench.py --bench "$out" --reference "$refdir"

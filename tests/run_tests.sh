@@ -174,19 +174,53 @@ for problem in original penalty; do
   fi
 done
 
-# ---- the fixed point solves the same discrete problem as Newton (a short coarse run: it
-# needs about 15,000 iterations a step)
+# ---- the fixed point solves the same discrete problem as Newton: the paper scene at the
+# defaults (the blessed cases' runs), then points of our own that no sweep of
+# tests/stability.sh runs (other scenes, r, meshes, time steps), for both solvers; where
+# neither can converge, both fail loudly
 for problem in original penalty; do
-  diag="$work/fixedpoint-$problem.diag"; : > "$diag"
-  fixedpoint_options=(-scene paper -nx 16 -ny 8 -dt 0.05 -T 0.2 -problem "$problem")
-  if solve "${fixedpoint_options[@]}" -solver fixedpoint -maxit 100000 -out "$work/fixedpoint-$problem" > "$diag" 2>&1 \
-     && solve "${fixedpoint_options[@]}" -out "$work/fixedpoint-newton-$problem" >> "$diag" 2>&1 \
-     && "$PYTHON" tests/check_results.py "$work/fixedpoint-$problem" --compare "$work/fixedpoint-newton-$problem" --rtol 1e-8 >> "$diag" 2>&1; then
-    report 0 "fixed point = Newton to 1e-8 ($problem, 16x8, T = 0.2)"
+  diag="$work/fixedpoint-$problem.diag"; : > "$diag"; status=0
+  # shellcheck disable=SC2086
+  if solve ${case_options[paper-$problem]} -solver fixedpoint -out "$work/fixedpoint-$problem" > "$diag" 2>&1 \
+     && "$PYTHON" tests/check_results.py "$work/fixedpoint-$problem" --compare "$work/paper-$problem" --rtol 1e-8 >> "$diag" 2>&1; then
+    mean=$(awk '$1 == "iterations_total" { t = $2 } $1 == "steps" { s = $2 } END { printf "%.1f", t / s }' "$work/fixedpoint-$problem/summary.txt")
+    awk -v m="$mean" 'BEGIN { exit !(m > 0 && m <= 100) }' || { echo "fixed point: $mean iterations a step (target <= 100)" >> "$diag"; status=1; }
   else
-    report 1 "fixed point = Newton to 1e-8 ($problem, 16x8, T = 0.2)" "$diag"
+    status=1
   fi
+  report $status "fixed point at its defaults = Newton to 1e-8 on the paper scene ($problem), at most 100 iterations a step on average" "$diag"
 done
+diag="$work/heldout.diag"; : > "$diag"; status=0
+while IFS='|' read -r name options; do
+  [ -n "$name" ] || continue
+  # shellcheck disable=SC2086
+  for solver in newton fixedpoint; do
+    solve $options -solver "$solver" -out "$work/heldout-$name-$solver" > "$work/heldout.log" 2>&1 \
+      || { echo "$name ($solver) did not converge:" >> "$diag"; tail -n 2 "$work/heldout.log" >> "$diag"; status=1; }
+  done
+  [ -d "$work/heldout-$name-newton" ] && [ -d "$work/heldout-$name-fixedpoint" ] || continue
+  "$PYTHON" tests/check_results.py "$work/heldout-$name-fixedpoint" --compare "$work/heldout-$name-newton" --rtol 1e-8 >> "$diag" 2>&1 \
+    || { echo "$name: the two solvers disagree (above)" >> "$diag"; status=1; }
+  for solver in newton fixedpoint; do
+    mean=$(awk '$1 == "iterations_total" { t = $2 } $1 == "steps" { s = $2 } END { printf "%.1f", t / s }' "$work/heldout-$name-$solver/summary.txt")
+    cap=$([ "$solver" = newton ] && echo 10 || echo 100)
+    awk -v m="$mean" -v c="$cap" 'BEGIN { exit !(m > 0 && m <= c) }' || { echo "$name ($solver): $mean iterations a step (at most $cap expected)" >> "$diag"; status=1; }
+  done
+done <<'POINTS'
+r5e-4-40x20|-scene paper -nx 40 -ny 20 -r 5e-4 -T 0.6
+r2e3-mu1.2-load30|-scene paper -nx 40 -ny 20 -r 2e3 -mu 1.2 -load 30 -dt 0.025 -T 0.5
+cylinder-dt0.02|-scene cylinder -dt 0.02 -T 0.4
+unloading-mu0.8|-scene unloading -mu 0.8 -nx 32 -ny 16
+power-penalty|-scene power-damping -problem penalty -eps 1e-9 -nx 40 -ny 20 -T 0.5
+bound-profile-k0.05|-scene bound-profile -dt 0.05 -nx 50 -ny 25
+column-mu0.7|-scene column -mu 0.7 -load 12
+POINTS
+for solver in newton fixedpoint; do
+  rc=0; solve -scene paper -nx 40 -ny 20 -T 0.1 -solver "$solver" -maxit 1 -out "$work/heldout-cap-$solver" > "$work/heldout.log" 2>&1 || rc=$?
+  [ "$rc" = 4 ] && [ ! -e "$work/heldout-cap-$solver" ] && grep -Eq "^error: step 1 \(t = 0.01\): the contact solver did not converge after 1 iterations \(iteration cap reached\), residual [0-9.e+-]+ > tol 1e-10; no results written" "$work/heldout.log" \
+    || { echo "-maxit 1 ($solver): exit $rc" >> "$diag"; cat "$work/heldout.log" >> "$diag"; status=1; }
+done
+report $status "held-out points (other scenes, r 5e-4 and 2e3, meshes, time steps): Newton and the fixed point converge and agree to 1e-8; a cap they cannot meet fails loudly (exit 4, step, iterations, residual)" "$diag"
 
 # ---- the compiled kernel (edp/plugins/contactkernel.cpp): its linear algebra against
 # FreeFEM's UMFPACK, and its Newton against the script Newton of edp/lib/contact.idp

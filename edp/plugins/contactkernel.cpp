@@ -16,7 +16,7 @@
 //    fixed point of contactKernelFixedPoint (projected Gauss-Seidel with Anderson
 //    acceleration; Newton's safeguard falls back on its iteration), and the script solvers
 //    of edp/lib/solvers.idp through contactLawEvaluate / contactLawRelations /
-//    contactNewtonAccept / contactFixedPointIteration.
+//    contactNewtonGuard / contactNewtonSafeguard / contactNewtonEnd.
 // 3. The record of a step (the energy terms of history.txt, the forces, zones, x_B, x_C of
 //    contact_history.txt) and the nodal values of contact.txt, from the same statuses.
 //
@@ -62,15 +62,23 @@
 //   contactLawEvaluate(real[int] c, real[int] m, real[int] target)  returns the natural
 //       residual at (c, m); target = the stresses the pieces give
 //   contactLawRelations(real[int] c, real[int] a, real[int] d, real[int] h, int[int] slot)
-//   contactLawMerit()   the 2-norm of the weighted residual of the last evaluation
-//   contactNewtonLog(int it, real residual, int kept)   -verbose: the log line of iteration it
-//       (kept 0: the safeguard replaced the Newton iterate by a fixed-point iteration)
-//   contactNewtonAccept(real merit)   the safeguard's test of the last evaluated iterate; 1 = keep
-//   contactFixedPointIteration(real[int] cFree, real[int] c, real[int] m)   one fixed-point
-//       iteration from m (the safeguard's fallback); returns the natural residual after it
+//   contactNewtonStart(real[int] cFree, real[int] c, real[int] m, real[int] info)   the start of
+//       a Newton step (newtonStart): logs iteration 0; returns the natural residual at (c, m);
+//       info = [that residual, 1, the merit the first iterate must lower]
+//   contactNewtonSafeguard(real[int] cFree, real[int] previous, real[int] newton, real merit,
+//       real[int] c, real[int] m, real[int] info)   the safeguard (safeguardStep): from the
+//       previous multipliers (whose merit is merit) and the Newton iterate, the (c, m) it keeps;
+//       returns 0 (the Newton iterate), 1 (a shortened Newton step) or 2 (a fixed-point
+//       iteration); info = [natural residual, step, merit]
+//   contactNewtonLog(int it, real residual, int outcome, real step)   -verbose: the log line of
+//       iteration it (outcome and step: contactNewtonSafeguard's)
+//   contactNewtonGuard(int it, real[int] c, real[int] m)   the cycle guard (guard): halves r
+//       when the relations of iteration it repeat; returns 1 if it did (the law is then
+//       evaluated again at (c, m))
+//   contactNewtonEnd()   r back to the user's after a step
 //   contactKernelCounters(real[int] info)   [Newton iterates replaced by a fixed-point
 //       iteration, fixed-point sweeps, Newton matrix factorizations, low-rank corrections,
-//       refinements of corrected solves], over the run
+//       refinements of corrected solves, Newton steps shortened, halvings of r], over the run
 //   contactKernelSourcesChanged(string folder)   1 if folder/contactkernel.cpp and
 //       folder/contactlaw.hpp are not the sources this kernel was built from (./run.sh passes
 //       their POSIX cksum as KERNEL_SOURCES_CKSUM), 0 if they are or if that is unknown
@@ -232,6 +240,7 @@ struct Factor {
   std::vector<double> valOf;
   std::vector<double> z;                // forward sweep of the last contactKernelFree
   std::vector<double> Dw;               // nc x nc, column-major (contactKernelDelassus)
+  std::vector<double> rReference;       // 1/(Dw)_jj: the augmentation the convergence test reads
   bool haveForward = false;
   long generation = 0;                  // counts the calls of contactKernelFactorize
   long delassusGeneration = -1;         // the factor Dw belongs to
@@ -433,6 +442,8 @@ long delassus(KNM<double> *const &pDw) {
   // r_j = r / Dw_jj: the stress a unit velocity of slot j produces through the body, so that
   // the default r = 1 fits any scene
   for (int j = 0; j < nc; j++) L.setAugmentation(j, SP.r / F.Dw[j + (size_t)j * nc]);
+  F.rReference.assign(nc, 0.);
+  for (int j = 0; j < nc; j++) F.rReference[j] = 1. / F.Dw[j + (size_t)j * nc];
   return 0;
 }
 
@@ -471,6 +482,9 @@ long freeVelocity(KN<double> *const &pb, KN<double> *const &pc) {
   trailingVelocity(F.z.data() + (F.n - F.nt), wt.data());
   c = 0.;
   for (size_t k = 0; k < F.slotOf.size(); k++) c[F.slotOf[k]] += F.valOf[k] * wt[F.posOf[k]];
+  // the size of the velocities a solver computes from them, c = cFree - Dw m: the law's
+  // round-off guard weighs their round-off (Slots::evaluate)
+  if ((int)L.velocityScale.size() == F.nc) for (int j = 0; j < F.nc; j++) L.velocityScale[j] = std::fabs(c[j]);
   return 0;
 }
 
@@ -772,6 +786,10 @@ struct Newton {
   bool haveBase = false;
   long factorizations = 0, corrections = 0, refinements = 0;
   long fallbacks = 0;                  // iterates the safeguard replaced by a fixed-point iteration
+  long cuts = 0;                       // ... by a shortened Newton step
+  long halvings = 0;                   // of r by the cycle guard
+  std::vector<double> seen;            // the cycle guard's fingerprints of the step's iterations
+  std::vector<double> rDefault;        // r_j at the start of a step
   long generation = -1;                // the factor the base matrix belongs to
 };
 Newton Q;
@@ -836,15 +854,16 @@ void fixedPointSweep(bool forward, double *c, double *m) {
 }
 
 // One iteration of the map G from m (c is recomputed from m): the forward and backward sweeps;
-// returns the natural residual at the new (c, m) (the law's last evaluation is theirs).
-double fixedPointIteration(const double *cFree, double *c, double *m) {
+// returns the natural residual at the new (c, m) and sets its merit (referenceEvaluate).
+double referenceEvaluate(const double *c, const double *m, double &merit);
+double fixedPointIteration(const double *cFree, double *c, double *m, double &merit) {
   fixedPointPrepare();
   velocities(cFree, m, c);
   fixedPointSweep(true, c, m);
   fixedPointSweep(false, c, m);
   velocities(cFree, m, c);
   Q.fallbacks++;
-  return L.evaluate(c, m);
+  return referenceEvaluate(c, m, merit);
 }
 
 
@@ -966,16 +985,126 @@ bool newtonSolve(const double *b, double *x) {
   return true;
 }
 
+// The cycle guard (with -safeguard on): the relations of iteration it are fingerprinted (the
+// pieces, and the coefficients for a nonlinear p); when a fingerprint repeats within the step
+// and r is above the operator's scale (-r > 1, after earlier halvings), r is halved on every
+// slot for the rest of the step, and the law is evaluated again at (c, m) with the new r. The
+// solution does not depend on r, only which pieces Newton tries next: at large r a slot's
+// piece follows the sign of a small velocity, and the same wrong pieces come back. (At small
+// r halving would only slow it further; there the fixed-point iterations of the safeguard
+// below do the work.) The convergence test keeps reading the natural residual at the user's r
+// (referenceEvaluate). The weights are fixed pseudo-random numbers in [1, 1009].
+int guard(int it, const double *c, const double *m) {
+  if ((int)Q.seen.size() < it + 1) Q.seen.resize(it + 1, -1.);
+  if (it == 0) { std::fill(Q.seen.begin(), Q.seen.end(), -1.); Q.rDefault = L.r; }
+  double fingerprint = 0;
+  for (int j = 0; j < L.n; j++)
+    fingerprint += (L.key[j] + 0.6180339887 * L.a[j] + 0.4142135624 * L.d[j]) * (1. + ((7919 * j + 104729) % 1009));
+  int halved = 0;
+  // the scale of the current r against the operator's (r = 1): halving only down to it
+  const double scale = L.n > 0 && Q.rDefault[0] > 0 ? SP.r * L.r[0] / Q.rDefault[0] : 0.;
+  if (SP.safeguards && scale > 1)
+    for (int k = 0; k < it; k++)
+      if (Q.seen[k] == fingerprint) {
+        for (int j = 0; j < L.n; j++) L.setAugmentation(j, 0.5 * L.r[j]);
+        Q.halvings++;
+        std::fill(Q.seen.begin(), Q.seen.end(), -1.);
+        L.evaluate(c, m);
+        halved = 1;
+        break;
+      }
+  Q.seen[it] = fingerprint;
+  return halved;
+}
+// What every solver's convergence test and Newton's safeguard read: the natural residual and
+// its merit at the operator's scale r_j = 1/(Dw)_jj (the default -r 1), whatever -r and the
+// guard's halvings. r only steers which pieces Newton tries next; measured at a large r the
+// residual would weigh velocity mismatches r times more, at a small r stress mismatches, until
+// round-off alone exceeds tol, and a merit that changes with r cannot compare iterates across
+// a halving. Returns the residual, sets merit; the law's state is left at (c, m) and the
+// current r (the pieces Newton linearizes next).
+double referenceEvaluate(const double *c, const double *m, double &merit) {
+  if (F.rReference.empty() || F.rReference == L.r) {
+    const double residual = L.evaluate(c, m);
+    merit = L.merit();
+    return residual;
+  }
+  const std::vector<double> current = L.r;
+  for (int j = 0; j < L.n; j++) L.setAugmentation(j, F.rReference[j]);
+  const double reference = L.evaluate(c, m);
+  merit = L.merit();
+  for (int j = 0; j < L.n; j++) L.setAugmentation(j, current[j]);
+  L.evaluate(c, m);
+  return reference;
+}
+// r back to the user's after a step
+void endStep() {
+  if (!Q.rDefault.empty() && Q.rDefault != L.r) for (int j = 0; j < L.n; j++) L.setAugmentation(j, Q.rDefault[j]);
+}
+
 // The safeguard, shared by every Newton (compiled here, or the script view and the full-system
-// Newton of edp/lib/solvers.idp): a Newton iterate is kept when it lowers the merit ||Phi||_2 of
-// the weighted natural residual (Armijo, 1e-4) or meets tol; otherwise the solver goes back to
-// the previous iterate and takes one fixed-point iteration (fixedPointIteration) instead. The
-// fixed point converges for every r, so Newton does too; near the solution the Newton iterates
-// pass the test and convergence stays quadratic. (A line search along the Newton direction,
-// and halving r on a cycle, were tried first: docs/stability.md.) The last evaluation must be
-// the trial iterate's.
-bool accept(double merit, double residual) {
-  return !SP.safeguards || L.merit() < (1 - 1e-4) * merit || residual <= SP.tol;
+// Newton of edp/lib/solvers.idp), in safeguardStep: the Newton iterate is kept when it lowers
+// the merit ||Phi||_2 of the weighted natural residual (Armijo, 1e-4) or meets tol. Otherwise
+// two candidates from the previous iterate compete, and the one with the lower merit is taken:
+// the Newton step shortened (1/2, 1/4, ... 1/1024, the first that passes the Armijo test), and
+// one fixed-point iteration (fixedPointIteration). The fixed point converges for every r, and
+// wins where the line search would creep (small r); the line search wins where the fixed
+// point is slow (fine meshes far from the solution). Near the solution the Newton iterates
+// pass the test and convergence stays quadratic. (A line search alone, with r halved on a
+// repeated active set, and the fixed-point iteration alone were tried first: docs/stability.md.)
+bool accept(double merit, double trialMerit, double trialResidual, double step = 1) {
+  return trialMerit < (1 - 1e-4 * step) * merit || trialResidual <= SP.tol;
+}
+enum SafeguardOutcome { NewtonKept = 0, NewtonShortened = 1, FixedPointTaken = 2 };
+void logIteration(int it, double residual, int outcome = 0, double step = 1);
+// From the previous iterate and the Newton iterate (multipliers; c = cFree - Dw m), set (c, m)
+// to the iterate the safeguard keeps and the law's state to its evaluation; its natural
+// residual and merit (referenceEvaluate) in residual and merit (on entry: the previous
+// iterate's merit), the step length in step (0 for a fixed-point iteration).
+int safeguardStep(const double *cFree, const double *previous, const double *newtonM, double &merit,
+                  double *c, double *m, double &residual, double &step) {
+  const int nc = F.nc;
+  const double before = merit;
+  std::copy(newtonM, newtonM + nc, m);
+  velocities(cFree, m, c);
+  double trial = 0;
+  residual = referenceEvaluate(c, m, trial);
+  step = 1;
+  if (!SP.safeguards || accept(before, trial, residual)) { merit = trial; return NewtonKept; }
+  // the line search's candidate
+  std::vector<double> mCut(nc);
+  double cutMerit = INFINITY, cutStep = 0;
+  for (double t = 0.5; t > 1. / 1500; t *= 0.5) {
+    for (int j = 0; j < nc; j++) m[j] = previous[j] + t * (newtonM[j] - previous[j]);
+    velocities(cFree, m, c);
+    double tm = 0;
+    const double tr = referenceEvaluate(c, m, tm);
+    if (accept(before, tm, tr, t)) { cutMerit = tm; cutStep = t; mCut.assign(m, m + nc); break; }
+  }
+  // the fixed point's candidate
+  std::copy(previous, previous + nc, m);
+  residual = fixedPointIteration(cFree, c, m, merit);
+  step = 0;
+  if (!(cutMerit < merit)) return FixedPointTaken;
+  std::copy(mCut.begin(), mCut.end(), m);
+  velocities(cFree, m, c);
+  residual = referenceEvaluate(c, m, merit);
+  step = cutStep;
+  Q.fallbacks--;                                     // counted by fixedPointIteration, not taken
+  Q.cuts++;
+  return NewtonShortened;
+}
+
+// The start of a Newton step: the log's iteration 0 (the previous step's multipliers with this
+// step's load, c = cFree - Dw m) and its merit, which the first iterate must lower; then the law
+// is evaluated at (c, m), the previous step's solution, whose pieces the first Newton step
+// linearizes. Returns the natural residual at (c, m).
+double newtonStart(const double *cFree, const double *c, const double *m, double &merit) {
+  std::vector<double> cStart(F.nc);
+  velocities(cFree, m, cStart.data());
+  logIteration(0, referenceEvaluate(cStart.data(), m, merit));
+  double unused = 0;
+  return referenceEvaluate(c, m, unused);
 }
 
 // -verbose: one line an iteration on the standard error, the residual and how many slots entered
@@ -985,7 +1114,7 @@ bool accept(double merit, double residual) {
 // of the iterate; the first call says what the slots are.
 std::vector<int> loggedPieces;
 bool logExplained = false;
-void logIteration(int it, double residual, bool newtonKept = true) {
+void logIteration(int it, double residual, int outcome, double step) {
   if (!SP.verbose) return;
   if (!logExplained) {
     int normal = 0;
@@ -1007,7 +1136,9 @@ void logIteration(int it, double residual, bool newtonKept = true) {
   char number[32];
   std::snprintf(number, sizeof number, "%.3e", residual);
   line += std::string(first ? " (the previous step's multipliers, this step's load)" : "") + ": residual " + number;
-  if (!newtonKept) line += " (the Newton iterate did not lower the merit: one fixed-point iteration instead)";
+  if (outcome == FixedPointTaken) line += " (the Newton iterate did not lower the merit: one fixed-point iteration instead)";
+  if (outcome == NewtonShortened)
+    line += " (the Newton iterate did not lower the merit: the step " + std::to_string((int)std::lround(1 / step)) + " times shorter)";
   line += first ? "; slots:" : "; changed:";
   int shown = 0;
   for (int k = 0; k < 5; k++) {
@@ -1029,33 +1160,25 @@ long newton(KN<double> *const &pcFree, KN<double> *const &pc, KN<double> *const 
   const int nc = F.nc;
   KN<double> &cFreeK = *pcFree, &cK = *pc, &mK = *pm, &info = *pinfo;
   if (cFreeK.N() != nc || cK.N() != nc || mK.N() != nc) ExecError("contactKernelNewton: one value per slot expected");
-  std::vector<double> cFree(nc), c(nc), m(nc), cStart(nc), previous(nc), rhs(nc);
+  std::vector<double> cFree(nc), c(nc), m(nc), previous(nc), rhs(nc), newtonM(nc);
   for (int j = 0; j < nc; j++) { cFree[j] = cFreeK[j]; c[j] = cK[j]; m[j] = mK[j]; }
-  // merit at the previous stresses with this step's cFree; first pieces from the previous solution
-  velocities(cFree.data(), m.data(), cStart.data());
-  const double startResidual = L.evaluate(cStart.data(), m.data());
-  logIteration(0, startResidual);
-  double merit = L.merit();
-  double residual = L.evaluate(c.data(), m.data());
+  double merit = 0;
+  double residual = newtonStart(cFree.data(), c.data(), m.data(), merit);
   int it = 0;
   while (true) {
     L.relations(c.data());
+    if (guard(it, c.data(), m.data())) L.relations(c.data());   // r halved: the pieces at the new r
     if (!sameAsPrepared() && !newtonPrepare()) { residual = NAN; break; }
     for (int j = 0; j < nc; j++) rhs[j] = L.h[j] - L.a[j] * cFree[L.slot[j]];
     previous = m;
-    if (!newtonSolve(rhs.data(), m.data())) { residual = NAN; break; }
-    velocities(cFree.data(), m.data(), c.data());
-    residual = L.evaluate(c.data(), m.data());
-    const bool kept = accept(merit, residual);
-    if (!kept) {
-      m = previous;
-      residual = fixedPointIteration(cFree.data(), c.data(), m.data());
-    }
-    merit = L.merit();
+    if (!newtonSolve(rhs.data(), newtonM.data())) { residual = NAN; break; }
+    double step = 1;
+    const int outcome = safeguardStep(cFree.data(), previous.data(), newtonM.data(), merit, c.data(), m.data(), residual, step);
     it++;
-    logIteration(it, residual, kept);
+    logIteration(it, residual, outcome, step);
     if (residual <= SP.tol || it >= SP.maxit || std::isnan(residual) || std::isinf(residual)) break;
   }
+  endStep();
   for (int j = 0; j < nc; j++) { cK[j] = c[j]; mK[j] = m[j]; }
   if (info.N() != 2) info.resize(2);
   info[0] = residual; info[1] = it;
@@ -1071,6 +1194,9 @@ long fixedPoint(KN<double> *const &pcFree, KN<double> *const &pc, KN<double> *co
   KN<double> &cFreeK = *pcFree, &cK = *pc, &mK = *pm, &info = *pinfo;
   if (cFreeK.N() != nc || cK.N() != nc || mK.N() != nc) ExecError("contactKernelFixedPoint: one value per slot expected");
   fixedPointPrepare();
+  // the convergence test at the operator's scale, as Newton's (referenceEvaluate)
+  const std::vector<double> userR = L.r;
+  for (int j = 0; j < nc; j++) L.setAugmentation(j, F.rReference[j]);
   std::vector<double> cFree(nc), c(nc), m(nc);
   for (int j = 0; j < nc; j++) { cFree[j] = cFreeK[j]; m[j] = mK[j]; }
   auto exactVelocities = [&]() { velocities(cFree.data(), m.data(), c.data()); };
@@ -1142,6 +1268,7 @@ long fixedPoint(KN<double> *const &pcFree, KN<double> *const &pc, KN<double> *co
     }
     logIteration(it, residual);
   }
+  for (int j = 0; j < nc; j++) L.setAugmentation(j, userR[j]);
   for (int j = 0; j < nc; j++) { cK[j] = c[j]; mK[j] = m[j]; }
   if (info.N() != 2) info.resize(2);
   info[0] = residual; info[1] = it;
@@ -1173,31 +1300,51 @@ long lawRelations(KN<double> *const &pc, KN<double> *const &pa, KN<double> *cons
   return 0;
 }
 
-double lawMerit() { return L.merit(); }
-long newtonLog(const long &it, const double &residual, const long &kept) {
+long newtonLog(const long &it, const double &residual, const long &outcome, const double &step) {
   requireNodes("contactNewtonLog");
-  logIteration((int)it, residual, kept != 0);
+  logIteration((int)it, residual, (int)outcome, step);
   return 0;
 }
-long newtonAccept(const double &merit) {
-  double worst = 0;
-  for (int j = 0; j < L.n; j++) { worst = std::max(worst, std::fabs(L.mismatch[j])); if (std::isnan(L.mismatch[j])) worst = NAN; }
-  return accept(merit, worst) ? 1 : 0;
+long newtonSafeguard(KN<double> *const &pcFree, KN<double> *const &pprevious, KN<double> *const &pnewton,
+                     const double &meritBefore, KN<double> *const &pc, KN<double> *const &pm, KN<double> *const &pinfo) {
+  requireSolver("contactNewtonSafeguard");
+  const int nc = F.nc;
+  KN<double> &cK = *pc, &mK = *pm, &info = *pinfo;
+  if (pcFree->N() != nc || pprevious->N() != nc || pnewton->N() != nc || cK.N() != nc || mK.N() != nc)
+    ExecError("contactNewtonSafeguard: one value per slot expected");
+  std::vector<double> cFree = copyOf(*pcFree), previous = copyOf(*pprevious), newtonM = copyOf(*pnewton), c(nc), m(nc);
+  double residual = 0, step = 1, merit = meritBefore;
+  const int outcome = safeguardStep(cFree.data(), previous.data(), newtonM.data(), merit, c.data(), m.data(), residual, step);
+  for (int j = 0; j < nc; j++) { cK[j] = c[j]; mK[j] = m[j]; }
+  if (info.N() != 3) info.resize(3);
+  info[0] = residual; info[1] = step; info[2] = merit;
+  return outcome;
 }
-double fixedPointIterationScript(KN<double> *const &pcFree, KN<double> *const &pc, KN<double> *const &pm) {
-  requireSolver("contactFixedPointIteration");
-  KN<double> &cFreeK = *pcFree, &cK = *pc, &mK = *pm;
-  if (cFreeK.N() != F.nc || cK.N() != F.nc || mK.N() != F.nc) ExecError("contactFixedPointIteration: one value per slot expected");
-  std::vector<double> cFree = copyOf(cFreeK), c(F.nc), m = copyOf(mK);
-  const double residual = fixedPointIteration(cFree.data(), c.data(), m.data());
-  for (int j = 0; j < F.nc; j++) { cK[j] = c[j]; mK[j] = m[j]; }
+double newtonStartScript(KN<double> *const &pcFree, KN<double> *const &pc, KN<double> *const &pm, KN<double> *const &pinfo) {
+  requireSolver("contactNewtonStart");
+  if (pcFree->N() != F.nc || pc->N() != F.nc || pm->N() != F.nc) ExecError("contactNewtonStart: one value per slot expected");
+  std::vector<double> cFree = copyOf(*pcFree), c = copyOf(*pc), m = copyOf(*pm);
+  double merit = 0;
+  const double residual = newtonStart(cFree.data(), c.data(), m.data(), merit);
+  KN<double> &info = *pinfo;
+  if (info.N() != 3) info.resize(3);
+  info[0] = residual; info[1] = 1; info[2] = merit;
   return residual;
 }
 
+long newtonGuard(const long &it, KN<double> *const &pc, KN<double> *const &pm) {
+  requireNodes("contactNewtonGuard");
+  if (pc->N() != L.n || pm->N() != L.n) ExecError("contactNewtonGuard: one value per slot expected");
+  std::vector<double> c = copyOf(*pc), m = copyOf(*pm);
+  return guard((int)it, c.data(), m.data());
+}
+long newtonEnd() { endStep(); return 0; }
+
 long counters(KN<double> *const &pinfo) {
   KN<double> &info = *pinfo;
-  info.resize(5);
+  info.resize(7);
   info[0] = Q.fallbacks; info[1] = FP.sweeps; info[2] = Q.factorizations; info[3] = Q.corrections; info[4] = Q.refinements;
+  info[5] = Q.cuts; info[6] = Q.halvings;
   return 0;
 }
 
@@ -1261,10 +1408,11 @@ static void Load_Init() {
   Global.Add("contactKernelFixedPoint", "(", new OneOperator4_<long, KN<double> *, KN<double> *, KN<double> *, KN<double> *>(fixedPoint));
   Global.Add("contactLawEvaluate", "(", new OneOperator3_<double, KN<double> *, KN<double> *, KN<double> *>(lawEvaluate));
   Global.Add("contactLawRelations", "(", new OneOperator5_<long, KN<double> *, KN<double> *, KN<double> *, KN<double> *, KN<long> *>(lawRelations));
-  Global.Add("contactLawMerit", "(", new OneOperator0<double>(lawMerit));
-  Global.Add("contactNewtonLog", "(", new OneOperator3_<long, long, double, long>(newtonLog));
-  Global.Add("contactNewtonAccept", "(", new OneOperator1_<long, double>(newtonAccept));
-  Global.Add("contactFixedPointIteration", "(", new OneOperator3_<double, KN<double> *, KN<double> *, KN<double> *>(fixedPointIterationScript));
+  Global.Add("contactNewtonLog", "(", new OneOperator4_<long, long, double, long, double>(newtonLog));
+  Global.Add("contactNewtonGuard", "(", new OneOperator3_<long, long, KN<double> *, KN<double> *>(newtonGuard));
+  Global.Add("contactNewtonEnd", "(", new OneOperator0<long>(newtonEnd));
+  Global.Add("contactNewtonStart", "(", new OneOperator4_<double, KN<double> *, KN<double> *, KN<double> *, KN<double> *>(newtonStartScript));
+  Global.Add("contactNewtonSafeguard", "(", new OneOperator7_<long, KN<double> *, KN<double> *, KN<double> *, double, KN<double> *, KN<double> *, KN<double> *>(newtonSafeguard));
   Global.Add("contactKernelCounters", "(", new OneOperator1_<long, KN<double> *>(counters));
   Global.Add("contactKernelSourcesChanged", "(", new OneOperator1_<long, string *>(sourcesChanged));
 }

@@ -112,6 +112,7 @@ struct Slots {
   std::vector<char> normal;              // normal slot (else tangential)
   std::vector<int> partner;              // a tangential slot's normal slot, -1 if none
   std::vector<double> g, Kn, r, forceScale, residualWeight;
+  std::vector<double> velocityScale;     // per slot, |c_free|: the size of the terms c is computed from
   double roundoff = 0;                   // 10 u / tol (set with tol): see evaluate()
   // at the last evaluate(): piece, key, y, the resolvent's v (Damped, Bound) and target
   std::vector<int> piece, key;
@@ -123,7 +124,7 @@ struct Slots {
   void resize(int count) {
     n = count;
     normal.assign(n, 1); partner.assign(n, -1);
-    for (auto *v : {&g, &Kn, &r, &forceScale, &residualWeight, &stress, &y, &velocity, &target, &mismatch, &a, &d, &h})
+    for (auto *v : {&g, &Kn, &r, &forceScale, &residualWeight, &velocityScale, &stress, &y, &velocity, &target, &mismatch, &a, &d, &h})
       v->assign(n, 0.);
     piece.assign(n, 0); key.assign(n, 0); slot.assign(n, 0);
   }
@@ -188,8 +189,9 @@ struct Slots {
 
   // pieces, targets and the weighted natural residual (max norm; NaN if any is NaN) at (c, m).
   // A slot's mismatch Lambda - target is weighted by residualWeight, unless its terms are so
-  // large (a body moving at many times g, a free flight) that their round-off would exceed
-  // tol: then relative to the terms, so that round-off reads tol/10 at most.
+  // large (a body moving at many times g, a free flight, r c at a large r, with c computed
+  // from velocities of size velocityScale) that their round-off would exceed tol: then
+  // relative to the terms, so that round-off reads tol/10 at most.
   double evaluate(const double *c, const double *m) {
     double worst = 0;
     for (int j = 0; j < n; j++) {
@@ -205,7 +207,7 @@ struct Slots {
       piece[j] = p;
       target[j] = t;
       double weight = residualWeight[j];
-      const double terms = roundoff * (std::fabs(Kn[j] * c[j]) + std::fabs(m[j]) + r[j] * std::fabs(c[j]));
+      const double terms = roundoff * (std::fabs(Kn[j] * c[j]) + std::fabs(m[j]) + r[j] * (std::fabs(c[j]) + velocityScale[j]));
       if (terms * weight > 1) weight = 1 / terms;
       mismatch[j] = (lambda - t) * weight;
       worst = std::max(worst, std::fabs(mismatch[j]));

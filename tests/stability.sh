@@ -15,8 +15,8 @@
 #   pen-newton-compliant-on|off   -problem penalty -penaltyform compliant    -maxit 100
 #   pen-newton-literal-on|off     -problem penalty -penaltyform literal      -maxit 100
 #   pen-fixedpoint                -problem penalty -solver fixedpoint        -maxit 1000
-# The fixed point ignores -safeguard (Newton's), and r only sets the natural residual it is
-# tested with. Sweeps (reduced mesh 33x16, T = 1, k = 0.01 unless said; see the table in
+# The fixed point ignores -safeguard and -r (Newton's; every solver's residual is read at the
+# operator's scale, r = 1). Sweeps (reduced mesh 33x16, T = 1, k = 0.01 unless said; see the table in
 # docs/stability.md): eps x method, r x method, k x mu (Newton and fixed point), mu, load
 # and k (all methods), mesh x k (fixed point), mesh x r (Newton, T = 0.05), the defaults of
 # both solvers on the paper mesh 66x33 over the paper box (maxit as shipped: 50 and 500),

@@ -894,7 +894,7 @@ report $status "-vtk N: fields.pvd and .vtu frames read back by VTK equal fields
 diag="$work/log.diag"; : > "$diag"; status=0
 rm -rf "$work/log"
 solve -scene paper -nx 16 -ny 8 -T 0.2 -dt 0.05 -verbose -out "$work/log" > /dev/null 2> "$work/log.err" || status=1
-[ "$(grep -c '^step [0-9]*/4 (t = ' "$work/log.err")" = 4 ] && grep -q '^Newton log: 16 normal slots .* and 15 tangential' "$work/log.err" \
+[ "$(grep -c '^step [0-9]*/4 (t = ' "$work/log.err")" = 4 ] && grep -q '^Solver log: 16 normal slots .* and 15 tangential' "$work/log.err" \
   && grep -q '^  iteration 0 (the previous .*): residual .*; slots: damped 16, stick [0-9]*, slip [0-9]*$' "$work/log.err" \
   && grep -q '^  iteration 1: residual .* (the Newton iterate did not lower the merit: one fixed-point iteration instead); changed: stick +[0-9]*, slip -[0-9]*$' "$work/log.err" \
   || { echo "-verbose:" >> "$diag"; cat "$work/log.err" >> "$diag"; status=1; }

@@ -1119,7 +1119,7 @@ void logIteration(int it, double residual, int outcome, double step) {
   if (!logExplained) {
     int normal = 0;
     for (size_t j = 0; j < L.piece.size(); j++) normal += L.normal[j] != 0;
-    std::fprintf(stderr, "Newton log: %d normal slots (pieces free, damped, bound) and %d tangential ones (stick, slip; "
+    std::fprintf(stderr, "Solver log: %d normal slots (pieces free, damped, bound) and %d tangential ones (stick, slip; "
                  "a node with a fixed velocity component has none); per iteration, the slots that entered (+) or "
                  "left (-) each piece\n", normal, (int)L.piece.size() - normal);
     logExplained = true;

@@ -116,9 +116,10 @@ class Checker:
             self.expect(comp <= rtol, f"complementarity min(|lambda_nu|/p(g), |v_nu - g|/g) = {comp:.3e}")
         else:
             # compliant form eps lambda_nu = (v_nu - g)_+, in velocity units (dividing by eps
-            # would amplify the round-off of v_nu by 1/eps)
+            # would amplify the round-off of v_nu by 1/eps), relative to g or, for a large eps,
+            # to eps p(g) (eps times the round-off of lambda_nu is no violation)
             eps = self.real("eps")
-            err = (np.abs(eps * ln - np.maximum(vn - g, 0.0)) / g).max()
+            err = (np.abs(eps * ln - np.maximum(vn - g, 0.0)) / np.maximum(g, eps * scale)).max()
             self.expect(err <= rtol, f"penalty law eps lambda_nu = (v_nu - g)_+ off by {err:.3e} g")
         over = ((np.abs(lt) - bound) / scale).max()
         self.expect(over <= rtol, f"friction cone |lambda_tau| <= mu p(v_nu) violated by {over:.3e} p(g)")

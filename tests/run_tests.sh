@@ -222,6 +222,25 @@ for solver in newton fixedpoint; do
 done
 report $status "held-out points (other scenes, r 5e-4 and 2e3, meshes, time steps): Newton and the fixed point converge and agree to 1e-8; a cap they cannot meet fails loudly (exit 4, step, iterations, residual)" "$diag"
 
+# ---- what a loose tolerance, a stalled fixed point and a large eps do
+diag="$work/loose.diag"; : > "$diag"; status=0
+# -tol 1e-4: the residual alone would stop the fixed point with sticking nodes still slipping
+# (zones 15/49/2); a step also waits for the statuses, so the zones are Newton's
+solve -scene paper -solver fixedpoint -tol 1e-4 -out "$work/loose-fixedpoint" > "$diag" 2>&1 || status=1
+"$PYTHON" tests/check_results.py "$work/loose-fixedpoint" --zones 1,15,0,29,22 --rtol 1e-3 >> "$diag" 2>&1 || status=1   # 10 tol, as the run's own checks
+# a steep damping table where the sweeps settle away from a solution: exit 4 at once, saying so
+grep -v -E '^(cnu|damping) ' edp/scenes/paper.scene > "$work/steep.scene"; echo "damping table 0 0 0.01 0 0.02 5 0.05 5 0.06 1000" >> "$work/steep.scene"
+rc=0; solve -scene "$work/steep.scene" -T 0.5 -solver fixedpoint -out "$work/steep" > "$work/steep.log" 2>&1 || rc=$?
+[ "$rc" = 4 ] && [ ! -e "$work/steep" ] && grep -Eq "^error: step 1 \(t = 0.01\): the contact solver did not converge after [0-9]+ iterations \(the fixed point stalled: .*\), residual [0-9.e+-]+ > tol 1e-10; no results written" "$work/steep.log" \
+  && [ "$(sed -n 's/.*after \([0-9]*\) iterations.*/\1/p' "$work/steep.log")" -lt 500 ] \
+  || { echo "steep table, fixed point: exit $rc" >> "$diag"; cat "$work/steep.log" >> "$diag"; status=1; }
+solve -scene "$work/steep.scene" -T 0.5 -out "$work/steep-newton" >> "$diag" 2>&1 && "$PYTHON" tests/check_results.py "$work/steep-newton" >> "$diag" 2>&1 \
+  || { echo "steep table, Newton: did not converge" >> "$diag"; status=1; }
+# a large penalty eps: eps times the round-off of lambda_nu is no violation of the penalty law
+solve -scene paper -nx 16 -ny 8 -T 0.2 -problem penalty -eps 1e6 -out "$work/eps1e6" >> "$diag" 2>&1 \
+  && "$PYTHON" tests/check_results.py "$work/eps1e6" >> "$diag" 2>&1 || { echo "-eps 1e6 failed" >> "$diag"; status=1; }
+report $status "fixed point at -tol 1e-4: the paper's zones (statuses settled); a stalled fixed point stops at once with exit 4 and says so (Newton converges there); -eps 1e6 passes the penalty check" "$diag"
+
 # ---- the compiled kernel (edp/plugins/contactkernel.cpp): its linear algebra against
 # FreeFEM's UMFPACK, and its Newton against the script Newton of edp/lib/contact.idp
 diag="$work/kernel.diag"; : > "$diag"
@@ -482,7 +501,8 @@ expect_failure "eps <= 0" 2 "option -eps = 0 is out of range: it must be > 0" -e
 expect_failure "tol <= 0" 2 "option -tol = -1e-10 is out of range: it must be >= 1e-13" -tol -1e-10
 expect_failure "tol too large for the checks" 2 "option -tol = 1 is out of range: it must be <= 1e-4" -tol 1
 expect_failure "maxit < 1" 2 "option -maxit = 0 is out of range: it must be >= 1" -maxit 0
-expect_failure "r <= 0" 2 "option -r = 0 is out of range: it must be > 0" -r 0
+expect_failure "r <= 0" 2 "option -r = 0 is out of range: it must be >= 1e-8" -r 0
+expect_failure "r above 1e8" 2 "option -r = 1e12 is out of range: it must be <= 1e8" -r 1e12
 expect_failure "unknown problem" 2 "option -problem = 'dual' is not one of original\|penalty" -problem dual
 expect_failure "unknown solver" 2 "option -solver = 'cg' is not one of newton.fixedpoint.full" -solver cg
 expect_failure "unknown safeguard" 2 "option -safeguard = 'maybe' is not one of on.off" -safeguard maybe

@@ -54,11 +54,11 @@
 //       v_tau, p_nu, lambda_nu, lambda_tau, normal_status, tangential_status, friction_bound,
 //       force scale p(g), zone
 //   contactKernelNewton(real[int] cFree, real[int] c, real[int] m, real[int] info)  one step's
-//       Newton from (c, m); returns the iterations, or -1; info = [residual, iterations]
+//       Newton from (c, m); returns the iterations, or -1; info = [residual, iterations,
+//       unresolved statuses (Slots::unresolvedStatuses), 1 if the fixed point stalled]
 //   contactKernelFixedPoint(real[int] cFree, real[int] c, real[int] m, real[int] info)  the
-//       same for the fixed point. Two environment variables change it for experiments
-//       (docs/stability.md, "Fixed point"): CONTACT_FP_WINDOW (Anderson's window, default 10;
-//       0: none) and CONTACT_FP_OMEGA (relaxation of each slot's update, default 1)
+//       same for the fixed point (the variants of docs/stability.md, "Fixed point", change
+//       FP.window and FP.omega below)
 //   contactLawEvaluate(real[int] c, real[int] m, real[int] target)  returns the natural
 //       residual at (c, m); target = the stresses the pieces give
 //   contactLawRelations(real[int] c, real[int] a, real[int] d, real[int] h, int[int] slot)
@@ -69,7 +69,8 @@
 //       real[int] c, real[int] m, real[int] info)   the safeguard (safeguardStep): from the
 //       previous multipliers (whose merit is merit) and the Newton iterate, the (c, m) it keeps;
 //       returns 0 (the Newton iterate), 1 (a shortened Newton step) or 2 (a fixed-point
-//       iteration); info = [natural residual, step, merit]
+//       iteration); info = [natural residual, step, merit, unresolved statuses (when the
+//       residual meets tol: Slots::unresolvedStatuses; the step has converged when it is 0)]
 //   contactNewtonLog(int it, real residual, int outcome, real step)   -verbose: the log line of
 //       iteration it (outcome and step: contactNewtonSafeguard's)
 //   contactNewtonGuard(int it, real[int] c, real[int] m)   the cycle guard (guard): halves r
@@ -814,8 +815,9 @@ void velocities(const double *cFree, const double *m, double *c) {
 struct FixedPoint {
   std::vector<double> rho;              // the local augmentations 1/Dw_jj - Kn_j
   long generation = -1;                 // the Delassus matrix they belong to
-  double omega = 1;                     // relaxation of each slot's update
-  int window = 10;                      // Anderson acceleration's window (0: none)
+  // the variants measured in docs/stability.md, "Fixed point", set these two and rebuild
+  const double omega = 1;               // relaxation of each slot's update
+  const int window = 10;                // Anderson acceleration's window (0: none)
   long sweeps = 0, restarts = 0;        // over the run
 };
 FixedPoint FP;
@@ -830,8 +832,6 @@ void fixedPointPrepare() {
     FP.rho[j] = std::max(1. / djj - L.Kn[j], 1e-3 / djj);
   }
   FP.generation = F.delassusGeneration;
-  if (const char *w = std::getenv("CONTACT_FP_OMEGA")) FP.omega = std::atof(w);
-  if (const char *w = std::getenv("CONTACT_FP_WINDOW")) FP.window = std::atoi(w);
 }
 
 // one sweep over the slots, forward or backward; c = cFree - Dw m follows m
@@ -953,8 +953,8 @@ double rowResidual(const double *b, const double *x, double *res) {
     const double a = -L.a[j] * Dx[L.slot[j]], d = L.d[j] * x[j];
     const double scale = std::fabs(b[j]) + std::fabs(a) + std::fabs(d);
     res[j] = b[j] - a - d;
-    const double relative = std::fabs(res[j]) / scale;
-    if (!(relative <= worst)) worst = scale > 0 || res[j] != 0 ? relative : 0.;
+    const double relative = scale > 0 ? std::fabs(res[j]) / scale : (res[j] == 0 ? 0. : INFINITY);
+    if (!(relative <= worst)) worst = relative;             // a NaN row stays the worst
   }
   return worst;
 }
@@ -1047,7 +1047,7 @@ void endStep() {
 // the merit ||Phi||_2 of the weighted natural residual (Armijo, 1e-4) or meets tol. Otherwise
 // two candidates from the previous iterate compete, and the one with the lower merit is taken:
 // the Newton step shortened (1/2, 1/4, ... 1/1024, the first that passes the Armijo test), and
-// one fixed-point iteration (fixedPointIteration). The fixed point converges for every r, and
+// one fixed-point iteration (fixedPointIteration). The fixed point does not depend on r, and
 // wins where the line search would creep (small r); the line search wins where the fixed
 // point is slow (fine meshes far from the solution). Near the solution the Newton iterates
 // pass the test and convergence stays quadratic. (A line search alone, with r halved on a
@@ -1164,7 +1164,7 @@ long newton(KN<double> *const &pcFree, KN<double> *const &pc, KN<double> *const 
   for (int j = 0; j < nc; j++) { cFree[j] = cFreeK[j]; c[j] = cK[j]; m[j] = mK[j]; }
   double merit = 0;
   double residual = newtonStart(cFree.data(), c.data(), m.data(), merit);
-  int it = 0;
+  int it = 0, unresolved = 0;
   while (true) {
     L.relations(c.data());
     if (guard(it, c.data(), m.data())) L.relations(c.data());   // r halved: the pieces at the new r
@@ -1176,13 +1176,14 @@ long newton(KN<double> *const &pcFree, KN<double> *const &pc, KN<double> *const 
     const int outcome = safeguardStep(cFree.data(), previous.data(), newtonM.data(), merit, c.data(), m.data(), residual, step);
     it++;
     logIteration(it, residual, outcome, step);
-    if (residual <= SP.tol || it >= SP.maxit || std::isnan(residual) || std::isinf(residual)) break;
+    unresolved = residual <= SP.tol ? L.unresolvedStatuses(c.data()) : 0;
+    if ((residual <= SP.tol && unresolved == 0) || it >= SP.maxit || std::isnan(residual) || std::isinf(residual)) break;
   }
   endStep();
   for (int j = 0; j < nc; j++) { cK[j] = c[j]; mK[j] = m[j]; }
-  if (info.N() != 2) info.resize(2);
-  info[0] = residual; info[1] = it;
-  return residual <= SP.tol ? it : -1;
+  if (info.N() != 4) info.resize(4);
+  info[0] = residual; info[1] = it; info[2] = unresolved; info[3] = 0;
+  return residual <= SP.tol && unresolved == 0 ? it : -1;
 }
 
 // Anderson-accelerated fixed point: m <- G(m), G the symmetric sweep above; the new iterate
@@ -1203,13 +1204,20 @@ long fixedPoint(KN<double> *const &pcFree, KN<double> *const &pc, KN<double> *co
   exactVelocities();
   double residual = L.evaluate(c.data(), m.data());
   logIteration(0, residual);
+  // converged: the residual at most tol, and the statuses read the pieces (unresolvedStatuses)
+  int unresolved = 0;
+  auto converged = [&]() {
+    unresolved = residual <= SP.tol ? L.unresolvedStatuses(c.data()) : 0;
+    return residual <= SP.tol && unresolved == 0;
+  };
   // Anderson acceleration of the map G: m -> two sweeps (forward, backward), window FP.window
   const int window = FP.window;
-  std::vector<double> dX, dF, xPrev(nc), fPrev(nc), x(nc), f(nc), gm(nc), gc(nc);
+  std::vector<double> dX((size_t)window * nc), dF((size_t)window * nc), xPrev(nc), fPrev(nc), x(nc), f(nc), gm(nc), gc(nc);
   int stored = 0, head = 0;
-  bool havePrev = false;
+  bool havePrev = false, stalled = false;
+  std::vector<double> recent(20, 0.);                // the residuals of the last 20 iterations
   int it = 0;
-  while (!(residual <= SP.tol) && it < SP.maxit && std::isfinite(residual)) {
+  while (!converged() && it < SP.maxit && std::isfinite(residual)) {
     x = m;
     fixedPointSweep(true, c.data(), m.data());
     fixedPointSweep(false, c.data(), m.data());
@@ -1217,11 +1225,20 @@ long fixedPoint(KN<double> *const &pcFree, KN<double> *const &pc, KN<double> *co
     if (it % 25 == 0) exactVelocities();             // the updates' round-off does not pile up
     residual = L.evaluate(c.data(), m.data());
     if (residual <= SP.tol) { exactVelocities(); residual = L.evaluate(c.data(), m.data()); }
-    if (window > 0 && !(residual <= SP.tol) && std::isfinite(residual)) {
+    const bool done = converged();
+    // stalled: the residual has not changed by 1e-6 of itself in 20 iterations, away from a
+    // solution (the sweeps then have a fixed point that is not one of the law, seen with steep
+    // damping tables: a backward sweep undoes the forward one); stop, exit 4 follows
+    recent[it % 20] = residual;
+    if (!done && it >= 20 && std::fabs(residual - recent[(it + 1) % 20]) <= 1e-6 * residual) {
+      stalled = true;
+      logIteration(it, residual);
+      break;
+    }
+    if (window > 0 && !done && std::isfinite(residual)) {
       for (int j = 0; j < nc; j++) f[j] = m[j] - x[j];
       if (havePrev) {
-        if ((int)dX.size() < window * nc) { dX.resize((size_t)window * nc); dF.resize((size_t)window * nc); }
-        for (int j = 0; j < nc; j++) { dX[head * nc + j] = x[j] - xPrev[j]; dF[head * nc + j] = f[j] - fPrev[j]; }
+        for (int j = 0; j < nc; j++) { dX[(size_t)head * nc + j] = x[j] - xPrev[j]; dF[(size_t)head * nc + j] = f[j] - fPrev[j]; }
         head = (head + 1) % window;
         stored = std::min(stored + 1, window);
       }
@@ -1234,11 +1251,11 @@ long fixedPoint(KN<double> *const &pcFree, KN<double> *const &pc, KN<double> *co
         for (int a = 0; a < w; a++) {
           for (int b = 0; b < w; b++) {
             double sum = 0;
-            for (int j = 0; j < nc; j++) sum += dF[a * nc + j] * dF[b * nc + j];
+            for (int j = 0; j < nc; j++) sum += dF[(size_t)a * nc + j] * dF[(size_t)b * nc + j];
             A[a + (size_t)b * w] = sum;
           }
           double sum = 0;
-          for (int j = 0; j < nc; j++) sum += dF[a * nc + j] * f[j];
+          for (int j = 0; j < nc; j++) sum += dF[(size_t)a * nc + j] * f[j];
           rhs[a] = sum;
           trace += A[a + (size_t)a * w];
         }
@@ -1251,7 +1268,7 @@ long fixedPoint(KN<double> *const &pcFree, KN<double> *const &pc, KN<double> *co
           gm = m; gc = c;
           for (int j = 0; j < nc; j++) {
             double s = 0;
-            for (int a = 0; a < w; a++) s += (dX[a * nc + j] + dF[a * nc + j]) * rhs[a];
+            for (int a = 0; a < w; a++) s += (dX[(size_t)a * nc + j] + dF[(size_t)a * nc + j]) * rhs[a];
             m[j] = gm[j] - s;
           }
           exactVelocities();
@@ -1268,11 +1285,12 @@ long fixedPoint(KN<double> *const &pcFree, KN<double> *const &pc, KN<double> *co
     }
     logIteration(it, residual);
   }
+  const bool done = converged();
   for (int j = 0; j < nc; j++) L.setAugmentation(j, userR[j]);
   for (int j = 0; j < nc; j++) { cK[j] = c[j]; mK[j] = m[j]; }
-  if (info.N() != 2) info.resize(2);
-  info[0] = residual; info[1] = it;
-  return residual <= SP.tol ? std::max(it, 1) : -1;
+  if (info.N() != 4) info.resize(4);
+  info[0] = residual; info[1] = it; info[2] = unresolved; info[3] = stalled;
+  return done ? it : -1;
 }
 
 // ---------------------------------------------------------------- the law for the script solvers
@@ -1316,8 +1334,9 @@ long newtonSafeguard(KN<double> *const &pcFree, KN<double> *const &pprevious, KN
   double residual = 0, step = 1, merit = meritBefore;
   const int outcome = safeguardStep(cFree.data(), previous.data(), newtonM.data(), merit, c.data(), m.data(), residual, step);
   for (int j = 0; j < nc; j++) { cK[j] = c[j]; mK[j] = m[j]; }
-  if (info.N() != 3) info.resize(3);
+  if (info.N() != 4) info.resize(4);
   info[0] = residual; info[1] = step; info[2] = merit;
+  info[3] = residual <= SP.tol ? L.unresolvedStatuses(c.data()) : 0;
   return outcome;
 }
 double newtonStartScript(KN<double> *const &pcFree, KN<double> *const &pc, KN<double> *const &pm, KN<double> *const &pinfo) {
@@ -1327,8 +1346,8 @@ double newtonStartScript(KN<double> *const &pcFree, KN<double> *const &pc, KN<do
   double merit = 0;
   const double residual = newtonStart(cFree.data(), c.data(), m.data(), merit);
   KN<double> &info = *pinfo;
-  if (info.N() != 3) info.resize(3);
-  info[0] = residual; info[1] = 1; info[2] = merit;
+  if (info.N() != 4) info.resize(4);
+  info[0] = residual; info[1] = 1; info[2] = merit; info[3] = 0;
   return residual;
 }
 

@@ -215,6 +215,23 @@ struct Slots {
     }
     return worst;
   }
+  // Slots whose piece fixes their velocity (stick: v_tau = 0; at the bound, original problem:
+  // v_nu = g) but whose velocity the statuses above would read otherwise: a natural residual
+  // below a loose tol still lets a sticking node slip at up to tol g, above the stick
+  // threshold. A step has converged only when there is none, so that contact.txt and the
+  // zones report the pieces the solver found (at the last evaluate()).
+  // (Up to the round-off of c itself, 10 u (|c| + |c_free|): a bound far below that cannot be
+  // resolved, and the end-of-run checks judge such a run.)
+  int unresolvedStatuses(const double *c) const {
+    int count = 0;
+    for (int j = 0; j < n; j++) {
+      const double slack = 10 * 2.220446049250313e-16 * (std::fabs(c[j]) + velocityScale[j]);
+      const double inward = c[j] > 0 ? c[j] - slack : c[j] + slack;    // c moved by its round-off toward 0
+      if (piece[j] == Stick && tangentialStatus(std::fabs(c[j]) <= slack ? 0. : inward, g[j]) != 0) count++;
+      if (piece[j] == Bound && !P.penalty && normalStatus(c[j] + slack, g[j]) != 2) count++;
+    }
+    return count;
+  }
   double merit() const {
     double s = 0;
     for (int j = 0; j < n; j++) s += mismatch[j] * mismatch[j];

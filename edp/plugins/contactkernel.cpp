@@ -86,6 +86,7 @@
 #include "ff++.hpp"
 #include "AFunction_ext.hpp"
 #include <cholmod.h>
+#include <climits>
 #include <cstdint>
 #include <cstdlib>
 #include <cstdio>
@@ -559,30 +560,52 @@ long products(Matrice_Creuse<double> *const &pM, Matrice_Creuse<double> *const &
   for (int k = 0; k < 3; k++)
     if (mats[k]->n != n || mats[k]->m != n || mats[k]->half)
       ExecError("contactKernelProducts: M, A, B must be square, of one size, stored in full (not sym)");
-  // the union of the three patterns, row by row, with the values of each matrix
-  std::vector<std::pair<long long, double>> entries[3];
+  // the union of the three patterns, row by row, with the values of each matrix: the rows of
+  // the CSR forms (columns sorted within a row) merged three ways, in one pass over the entries
+  const int *rowStart[3], *col[3];
+  const double *val[3];
+  std::vector<int> sortedColumns[3];
+  std::vector<double> sortedValues[3];
   for (int k = 0; k < 3; k++) {
-    mats[k]->COO();
-    entries[k].reserve(mats[k]->nnz);
-    for (size_t e = 0; e < mats[k]->nnz; e++)
-      entries[k].push_back({(long long)mats[k]->i[e] * n + mats[k]->j[e], mats[k]->aij[e]});
-    std::sort(entries[k].begin(), entries[k].end());
+    mats[k]->CSR();
+    rowStart[k] = mats[k]->p; col[k] = mats[k]->j; val[k] = mats[k]->aij;
+    bool sorted = true;                                // CSR sorts (i, j); checked, not assumed
+    for (int i = 0; i < n && sorted; i++)
+      for (int e = rowStart[k][i] + 1; e < rowStart[k][i + 1]; e++)
+        if (col[k][e] <= col[k][e - 1]) { sorted = false; break; }
+    if (!sorted) {                                     // sort each row's (column, value) pairs
+      sortedColumns[k].assign(col[k], col[k] + mats[k]->nnz);
+      sortedValues[k].assign(val[k], val[k] + mats[k]->nnz);
+      for (int i = 0; i < n; i++) {
+        std::vector<std::pair<int, double>> row;
+        for (int e = rowStart[k][i]; e < rowStart[k][i + 1]; e++) row.push_back({col[k][e], val[k][e]});
+        std::sort(row.begin(), row.end(), [](const std::pair<int, double> &x, const std::pair<int, double> &y) { return x.first < y.first; });
+        for (size_t q = 0; q < row.size(); q++) {
+          sortedColumns[k][rowStart[k][i] + q] = row[q].first;
+          sortedValues[k][rowStart[k][i] + q] = row[q].second;
+        }
+      }
+      col[k] = sortedColumns[k].data(); val[k] = sortedValues[k].data();
+    }
   }
-  std::vector<long long> keys;
-  for (int k = 0; k < 3; k++) for (auto &e : entries[k]) keys.push_back(e.first);
-  std::sort(keys.begin(), keys.end());
-  keys.erase(std::unique(keys.begin(), keys.end()), keys.end());
   P3.n = n;
   P3.start.assign(n + 1, 0);
-  P3.column.resize(keys.size());
-  P3.values.assign(3 * keys.size(), 0.);
-  for (size_t e = 0; e < keys.size(); e++) { P3.start[keys[e] / n + 1]++; P3.column[e] = keys[e] % n; }
-  for (int i = 0; i < n; i++) P3.start[i + 1] += P3.start[i];
-  for (int k = 0; k < 3; k++)
-    for (auto &e : entries[k]) {
-      size_t pos = std::lower_bound(keys.begin(), keys.end(), e.first) - keys.begin();
-      P3.values[3 * pos + k] += e.second;
+  P3.column.clear(); P3.values.clear();
+  P3.column.reserve(mats[0]->nnz); P3.values.reserve(3 * mats[0]->nnz);
+  for (int i = 0; i < n; i++) {
+    int e[3] = {rowStart[0][i], rowStart[1][i], rowStart[2][i]};
+    while (true) {
+      int next = INT_MAX;
+      for (int k = 0; k < 3; k++) if (e[k] < rowStart[k][i + 1]) next = std::min(next, col[k][e[k]]);
+      if (next == INT_MAX) break;
+      double v3[3] = {0., 0., 0.};
+      for (int k = 0; k < 3; k++)                      // a repeated column adds up, as before
+        while (e[k] < rowStart[k][i + 1] && col[k][e[k]] == next) v3[k] += val[k][e[k]++];
+      P3.column.push_back(next);
+      P3.values.insert(P3.values.end(), v3, v3 + 3);
     }
+    P3.start[i + 1] = (int)P3.column.size();
+  }
   return 0;
 }
 

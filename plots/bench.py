@@ -68,12 +68,13 @@ def steps_table(bench):
         rows.append([name, f"{m.group(1)}x{m.group(2)}", int(value(r, "dofs")) if r["converged"] else -1,
                      int(value(r, "contact_slots")) if r["converged"] else -1, m.group(3), m.group(4),
                      int(steps) if r["converged"] else -1, int(r["converged"]), r["wall"],
-                     value(r, "time_assembly"), value(r, "time_factorization"), value(r, "time_condensation"),
+                     value(r, "time_mesh"), value(r, "time_assembly"), value(r, "time_factorization"),
+                     value(r, "time_condensation"), value(r, "time_record_setup"),
                      backsub, umfpack, median, median / backsub if backsub > 0 else NAN,
                      median / umfpack if umfpack > 0 else NAN,
                      its / steps if steps > 0 else NAN, value(r, "iterations_max"), r["peak_MB"]])
-    columns = ("run mesh dofs contact_slots mode problem steps converged wall time_assembly time_factorization "
-               "time_condensation time_backsubstitution time_backsubstitution_umfpack time_step_median "
+    columns = ("run mesh dofs contact_slots mode problem steps converged wall time_mesh time_assembly time_factorization "
+               "time_condensation time_record_setup time_backsubstitution time_backsubstitution_umfpack time_step_median "
                "step_over_floor step_over_umfpack_floor iterations_mean "
                "iterations_max peak_memory_MB").split()
     suite.write_table(os.path.join(bench, "steps.txt"),
@@ -164,7 +165,8 @@ def chart_cost_per_step(bench, columns, rows):
     if highest > 0:
         left.set_ylim(top=highest * 300)        # room for the legend above the slowest mode
     left.legend(fontsize=7, loc="upper right")
-    for key, style in (("time_assembly", "o-"), ("time_factorization", "s-"), ("time_condensation", "^-")):
+    for key, style in (("time_mesh", "v-"), ("time_assembly", "o-"), ("time_factorization", "s-"),
+                       ("time_condensation", "^-"), ("time_record_setup", "D-")):
         pts = sorted({(r[c["dofs"]], r[c[key]]) for r in rows
                       if r[c["mode"]] == "newton" and r[c["problem"]] == "original" and r[c["converged"]]})
         if pts:
@@ -262,7 +264,8 @@ def main():
     print(f"  {'run':40s} {'dofs':>7s} {'floor ms':>9s} {'umfpack ms':>10s} {'step ms':>9s} {'ratio':>6s} {'vs umf':>6s} "
           f"{'it/step':>7s} {'setup s':>8s} {'MB':>6s}")
     for r in rows:
-        setup = r[c["time_assembly"]] + r[c["time_factorization"]] + r[c["time_condensation"]]
+        setup = (r[c["time_mesh"]] + r[c["time_assembly"]] + r[c["time_factorization"]] + r[c["time_condensation"]]
+                 + r[c["time_record_setup"]])
         print(f"  {r[0]:40s} {r[c['dofs']]:7d} {1e3 * r[c['time_backsubstitution']]:9.3f} "
               f"{1e3 * r[c['time_backsubstitution_umfpack']]:10.3f} "
               f"{1e3 * r[c['time_step_median']]:9.3f} {r[c['step_over_floor']]:6.2f} {r[c['step_over_umfpack_floor']]:6.2f} "

@@ -564,29 +564,12 @@ long products(Matrice_Creuse<double> *const &pM, Matrice_Creuse<double> *const &
   // the CSR forms (columns sorted within a row) merged three ways, in one pass over the entries
   const int *rowStart[3], *col[3];
   const double *val[3];
-  std::vector<int> sortedColumns[3];
-  std::vector<double> sortedValues[3];
   for (int k = 0; k < 3; k++) {
     mats[k]->CSR();
     rowStart[k] = mats[k]->p; col[k] = mats[k]->j; val[k] = mats[k]->aij;
-    bool sorted = true;                                // CSR sorts (i, j); checked, not assumed
-    for (int i = 0; i < n && sorted; i++)
+    for (int i = 0; i < n; i++)                        // CSR sorts (i, j): checked, not assumed
       for (int e = rowStart[k][i] + 1; e < rowStart[k][i + 1]; e++)
-        if (col[k][e] <= col[k][e - 1]) { sorted = false; break; }
-    if (!sorted) {                                     // sort each row's (column, value) pairs
-      sortedColumns[k].assign(col[k], col[k] + mats[k]->nnz);
-      sortedValues[k].assign(val[k], val[k] + mats[k]->nnz);
-      for (int i = 0; i < n; i++) {
-        std::vector<std::pair<int, double>> row;
-        for (int e = rowStart[k][i]; e < rowStart[k][i + 1]; e++) row.push_back({col[k][e], val[k][e]});
-        std::sort(row.begin(), row.end(), [](const std::pair<int, double> &x, const std::pair<int, double> &y) { return x.first < y.first; });
-        for (size_t q = 0; q < row.size(); q++) {
-          sortedColumns[k][rowStart[k][i] + q] = row[q].first;
-          sortedValues[k][rowStart[k][i] + q] = row[q].second;
-        }
-      }
-      col[k] = sortedColumns[k].data(); val[k] = sortedValues[k].data();
-    }
+        if (col[k][e] <= col[k][e - 1]) ExecError("contactKernelProducts: FreeFEM's CSR form has unsorted rows");
   }
   P3.n = n;
   P3.start.assign(n + 1, 0);
@@ -841,7 +824,7 @@ struct FixedPoint {
   // the variants measured in docs/stability.md, "Fixed point", set these two and rebuild
   const double omega = 1;               // relaxation of each slot's update
   const int window = 10;                // Anderson acceleration's window (0: none)
-  long sweeps = 0, restarts = 0;        // over the run
+  long sweeps = 0;                      // over the run
 };
 FixedPoint FP;
 
@@ -885,7 +868,6 @@ double fixedPointIteration(const double *cFree, double *c, double *m, double &me
   fixedPointSweep(true, c, m);
   fixedPointSweep(false, c, m);
   velocities(cFree, m, c);
-  Q.fallbacks++;
   return referenceEvaluate(c, m, merit);
 }
 
@@ -1065,6 +1047,13 @@ void endStep() {
   if (!Q.rDefault.empty() && Q.rDefault != L.r) for (int j = 0; j < L.n; j++) L.setAugmentation(j, Q.rDefault[j]);
 }
 
+// A step has converged when its natural residual meets tol and no slot's status contradicts
+// its piece (Slots::unresolvedStatuses, counted in unresolved; 0 while the residual is above tol).
+bool stepConverged(double residual, const double *c, int &unresolved) {
+  unresolved = residual <= SP.tol ? L.unresolvedStatuses(c) : 0;
+  return residual <= SP.tol && unresolved == 0;
+}
+
 // The safeguard, shared by every Newton (compiled here, or the script view and the full-system
 // Newton of edp/lib/solvers.idp), in safeguardStep: the Newton iterate is kept when it lowers
 // the merit ||Phi||_2 of the weighted natural residual (Armijo, 1e-4) or meets tol. Otherwise
@@ -1108,12 +1097,11 @@ int safeguardStep(const double *cFree, const double *previous, const double *new
   std::copy(previous, previous + nc, m);
   residual = fixedPointIteration(cFree, c, m, merit);
   step = 0;
-  if (!(cutMerit < merit)) return FixedPointTaken;
+  if (!(cutMerit < merit)) { Q.fallbacks++; return FixedPointTaken; }
   std::copy(mCut.begin(), mCut.end(), m);
   velocities(cFree, m, c);
   residual = referenceEvaluate(c, m, merit);
   step = cutStep;
-  Q.fallbacks--;                                     // counted by fixedPointIteration, not taken
   Q.cuts++;
   return NewtonShortened;
 }
@@ -1188,6 +1176,7 @@ long newton(KN<double> *const &pcFree, KN<double> *const &pc, KN<double> *const 
   double merit = 0;
   double residual = newtonStart(cFree.data(), c.data(), m.data(), merit);
   int it = 0, unresolved = 0;
+  bool done = false;
   while (true) {
     L.relations(c.data());
     if (guard(it, c.data(), m.data())) L.relations(c.data());   // r halved: the pieces at the new r
@@ -1199,14 +1188,14 @@ long newton(KN<double> *const &pcFree, KN<double> *const &pc, KN<double> *const 
     const int outcome = safeguardStep(cFree.data(), previous.data(), newtonM.data(), merit, c.data(), m.data(), residual, step);
     it++;
     logIteration(it, residual, outcome, step);
-    unresolved = residual <= SP.tol ? L.unresolvedStatuses(c.data()) : 0;
-    if ((residual <= SP.tol && unresolved == 0) || it >= SP.maxit || std::isnan(residual) || std::isinf(residual)) break;
+    done = stepConverged(residual, c.data(), unresolved);
+    if (done || it >= SP.maxit || std::isnan(residual) || std::isinf(residual)) break;
   }
   endStep();
   for (int j = 0; j < nc; j++) { cK[j] = c[j]; mK[j] = m[j]; }
   if (info.N() != 4) info.resize(4);
   info[0] = residual; info[1] = it; info[2] = unresolved; info[3] = 0;
-  return residual <= SP.tol && unresolved == 0 ? it : -1;
+  return done ? it : -1;
 }
 
 // Anderson-accelerated fixed point: m <- G(m), G the symmetric sweep above; the new iterate
@@ -1227,12 +1216,8 @@ long fixedPoint(KN<double> *const &pcFree, KN<double> *const &pc, KN<double> *co
   exactVelocities();
   double residual = L.evaluate(c.data(), m.data());
   logIteration(0, residual);
-  // converged: the residual at most tol, and the statuses read the pieces (unresolvedStatuses)
   int unresolved = 0;
-  auto converged = [&]() {
-    unresolved = residual <= SP.tol ? L.unresolvedStatuses(c.data()) : 0;
-    return residual <= SP.tol && unresolved == 0;
-  };
+  bool done = stepConverged(residual, c.data(), unresolved);
   // Anderson acceleration of the map G: m -> two sweeps (forward, backward), window FP.window
   const int window = FP.window;
   std::vector<double> dX((size_t)window * nc), dF((size_t)window * nc), xPrev(nc), fPrev(nc), x(nc), f(nc), gm(nc), gc(nc);
@@ -1240,7 +1225,7 @@ long fixedPoint(KN<double> *const &pcFree, KN<double> *const &pc, KN<double> *co
   bool havePrev = false, stalled = false;
   std::vector<double> recent(20, 0.);                // the residuals of the last 20 iterations
   int it = 0;
-  while (!converged() && it < SP.maxit && std::isfinite(residual)) {
+  while (!done && it < SP.maxit && std::isfinite(residual)) {
     x = m;
     fixedPointSweep(true, c.data(), m.data());
     fixedPointSweep(false, c.data(), m.data());
@@ -1248,7 +1233,7 @@ long fixedPoint(KN<double> *const &pcFree, KN<double> *const &pc, KN<double> *co
     if (it % 25 == 0) exactVelocities();             // the updates' round-off does not pile up
     residual = L.evaluate(c.data(), m.data());
     if (residual <= SP.tol) { exactVelocities(); residual = L.evaluate(c.data(), m.data()); }
-    const bool done = converged();
+    done = stepConverged(residual, c.data(), unresolved);
     // stalled: the residual has not changed by 1e-6 of itself in 20 iterations, away from a
     // solution (the sweeps then have a fixed point that is not one of the law, seen with steep
     // damping tables: a backward sweep undoes the forward one); stop, exit 4 follows
@@ -1296,19 +1281,20 @@ long fixedPoint(KN<double> *const &pcFree, KN<double> *const &pc, KN<double> *co
           }
           exactVelocities();
           const double accelerated = L.evaluate(c.data(), m.data());
-          if (accelerated <= residual) residual = accelerated;
+          if (accelerated <= residual) {
+            residual = accelerated;
+            done = stepConverged(residual, c.data(), unresolved);
+          }
           else {                                     // not better: keep G's iterate, forget the history
             m = gm; c = gc;
             residual = L.evaluate(c.data(), m.data());
             stored = 0; head = 0; havePrev = false;
-            FP.restarts++;
           }
         }
       }
     }
     logIteration(it, residual);
   }
-  const bool done = converged();
   for (int j = 0; j < nc; j++) L.setAugmentation(j, userR[j]);
   for (int j = 0; j < nc; j++) { cK[j] = c[j]; mK[j] = m[j]; }
   if (info.N() != 4) info.resize(4);
@@ -1359,7 +1345,9 @@ long newtonSafeguard(KN<double> *const &pcFree, KN<double> *const &pprevious, KN
   for (int j = 0; j < nc; j++) { cK[j] = c[j]; mK[j] = m[j]; }
   if (info.N() != 4) info.resize(4);
   info[0] = residual; info[1] = step; info[2] = merit;
-  info[3] = residual <= SP.tol ? L.unresolvedStatuses(c.data()) : 0;
+  int unresolved = 0;
+  stepConverged(residual, c.data(), unresolved);
+  info[3] = unresolved;
   return outcome;
 }
 double newtonStartScript(KN<double> *const &pcFree, KN<double> *const &pc, KN<double> *const &pm, KN<double> *const &pinfo) {

@@ -9,6 +9,7 @@
 #ifndef CONTACTLAW_HPP
 #define CONTACTLAW_HPP
 #include <algorithm>
+#include <cfloat>
 #include <cmath>
 #include <cstdio>
 #include <string>
@@ -199,11 +200,8 @@ struct Slots {
       stress[j] = lambda; y[j] = yj;
       double t = 0;
       const int p = resolve(j, yj, r[j], c, t, velocity[j]);
-      if (normal[j]) key[j] = 4 * p;
-      else {
-        const double s = partner[j] >= 0 ? frictionBound(P, c[partner[j]]) : 0.;
-        key[j] = 4 * p + (p == Slip ? 2 * (yj > 0) + (s > 0) : 0);
-      }
+      // a slip piece's key: the side of y, and whether the bound s is positive (t = +-s)
+      key[j] = 4 * p + (p == Slip ? 2 * (yj > 0) + (t != 0) : 0);
       piece[j] = p;
       target[j] = t;
       double weight = residualWeight[j];
@@ -225,7 +223,7 @@ struct Slots {
   int unresolvedStatuses(const double *c) const {
     int count = 0;
     for (int j = 0; j < n; j++) {
-      const double slack = 10 * 2.220446049250313e-16 * (std::fabs(c[j]) + velocityScale[j]);
+      const double slack = 10 * DBL_EPSILON * (std::fabs(c[j]) + velocityScale[j]);
       const double inward = c[j] > 0 ? c[j] - slack : c[j] + slack;    // c moved by its round-off toward 0
       if (piece[j] == Stick && tangentialStatus(std::fabs(c[j]) <= slack ? 0. : inward, g[j]) != 0) count++;
       if (piece[j] == Bound && !P.penalty && normalStatus(c[j] + slack, g[j]) != 2) count++;

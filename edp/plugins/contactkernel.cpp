@@ -15,7 +15,7 @@
 //    through the Slots object below: the semismooth Newton of contactKernelNewton, the
 //    fixed point of contactKernelFixedPoint (projected Gauss-Seidel with Anderson
 //    acceleration; Newton's safeguard falls back on its iteration), and the script solvers
-//    of edp/lib/solvers.idp through contactLawEvaluate / contactLawRelations /
+//    of edp/lib/solvers.idp through contactNewtonStart / contactLawRelations /
 //    contactNewtonGuard / contactNewtonSafeguard / contactNewtonEnd.
 // 3. The record of a step (the energy terms of history.txt, the forces, zones, x_B, x_C of
 //    contact_history.txt) and the nodal values of contact.txt, from the same statuses.
@@ -59,8 +59,6 @@
 //   contactKernelFixedPoint(real[int] cFree, real[int] c, real[int] m, real[int] info)  the
 //       same for the fixed point (the variants of docs/stability.md, "Fixed point", change
 //       FP.window and FP.omega below)
-//   contactLawEvaluate(real[int] c, real[int] m, real[int] target)  returns the natural
-//       residual at (c, m); target = the stresses the pieces give
 //   contactLawRelations(real[int] c, real[int] a, real[int] d, real[int] h, int[int] slot)
 //   contactNewtonStart(real[int] cFree, real[int] c, real[int] m, real[int] info)   the start of
 //       a Newton step (newtonStart): logs iteration 0; returns the natural residual at (c, m);
@@ -1303,17 +1301,6 @@ long fixedPoint(KN<double> *const &pcFree, KN<double> *const &pc, KN<double> *co
 }
 
 // ---------------------------------------------------------------- the law for the script solvers
-double lawEvaluate(KN<double> *const &pc, KN<double> *const &pm, KN<double> *const &ptarget) {
-  requireNodes("contactLawEvaluate");
-  KN<double> &cK = *pc, &mK = *pm, &target = *ptarget;
-  if (cK.N() != L.n || mK.N() != L.n) ExecError("contactLawEvaluate: one value per slot expected");
-  std::vector<double> c = copyOf(cK), m = copyOf(mK);
-  const double residual = L.evaluate(c.data(), m.data());
-  target.resize(L.n);
-  for (int j = 0; j < L.n; j++) target[j] = L.target[j];
-  return residual;
-}
-
 long lawRelations(KN<double> *const &pc, KN<double> *const &pa, KN<double> *const &pd, KN<double> *const &ph,
                   KN<long> *const &pslot) {
   requireNodes("contactLawRelations");
@@ -1436,7 +1423,6 @@ static void Load_Init() {
              new OneOperator6_<long, string *, long, double, KN<double> *, KN<double> *, KNM<double> *>(appendNodes));
   Global.Add("contactKernelNewton", "(", new OneOperator4_<long, KN<double> *, KN<double> *, KN<double> *, KN<double> *>(newton));
   Global.Add("contactKernelFixedPoint", "(", new OneOperator4_<long, KN<double> *, KN<double> *, KN<double> *, KN<double> *>(fixedPoint));
-  Global.Add("contactLawEvaluate", "(", new OneOperator3_<double, KN<double> *, KN<double> *, KN<double> *>(lawEvaluate));
   Global.Add("contactLawRelations", "(", new OneOperator5_<long, KN<double> *, KN<double> *, KN<double> *, KN<double> *, KN<long> *>(lawRelations));
   Global.Add("contactNewtonLog", "(", new OneOperator4_<long, long, double, long, double>(newtonLog));
   Global.Add("contactNewtonGuard", "(", new OneOperator3_<long, long, KN<double> *, KN<double> *>(newtonGuard));

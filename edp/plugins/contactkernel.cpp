@@ -35,6 +35,9 @@
 //   contactKernelDampingSlope(real[int] Kn)   Kn per slot (p'(g) on normal slots), folded into S
 //   contactKernelFactorize(matrix S, matrix C)   returns 0, or 1 (S not positive definite),
 //       2 (CHOLMOD failed)
+//   contactKernelFactorizeStep(real cm, real ca, real cb, matrix D, real[int] fixed, matrix C)
+//       the same for S = cm M + ca A + cb B + D + 1e30 on the diagonal where fixed is 1, built
+//       from the M, A, B of contactKernelProducts (called first): no FreeFEM matrix S
 //   contactKernelLargestEntry(matrix S)   the largest |S_ij| (inf or nan if one is not finite)
 //   contactKernelDelassus(real[int,int] Dw)   Dw = C S^-1 C' diag(W); sets r_j = r / Dw_jj
 //   contactKernelSolve(real[int] b, real[int] x)    x = S^-1 b
@@ -278,33 +281,33 @@ MatriceMorse<double> *morse(Matrice_Creuse<double> *A) {
   return m;
 }
 
-long factorizeOrFail(MatriceMorse<double> &S, MatriceMorse<double> &C);
+long factorizeOrFail(MatriceMorse<double> *S, MatriceMorse<double> &C, int n);
+cholmod_sparse *upperFromProducts();
+
+void checkContactOperator(MatriceMorse<double> &C, int n, const char *who) {
+  if (C.m != n) ExecError(std::string(who) + ": S must be square, with as many columns as C");
+  if (C.n != L.n)
+    ExecError(std::string(who) + ": C has " + std::to_string(C.n) + " rows, but contactKernelNodes gave "
+              + std::to_string(L.n) + " slots");
+}
 
 // On any failure the kernel is left with no factor, so that a later call raises an error.
 long factorize(Matrice_Creuse<double> *const &pS, Matrice_Creuse<double> *const &pC) {
   requireNodes("contactKernelFactorize");
   MatriceMorse<double> &S = *morse(pS), &C = *morse(pC);
-  if (S.n != S.m || C.m != S.n) ExecError("contactKernelFactorize: S must be square, with as many columns as C");
-  if (C.n != L.n)
-    ExecError("contactKernelFactorize: C has " + std::to_string(C.n) + " rows, but contactKernelNodes gave "
-              + std::to_string(L.n) + " slots");
+  if (S.n != S.m) ExecError("contactKernelFactorize: S must be square, with as many columns as C");
+  checkContactOperator(C, S.n, "contactKernelFactorize");
   F.release();
   F.generation++;
-  const long status = factorizeOrFail(S, C);
+  const long status = factorizeOrFail(&S, C, S.n);
   if (status != 0) F.release();
   return status;
 }
 
-long factorizeOrFail(MatriceMorse<double> &S, MatriceMorse<double> &C) {
+// the upper triangle of S (stype = 1) from a FreeFEM matrix; a half-stored (sym) matrix keeps
+// its lower triangle
+cholmod_sparse *upperFromMorse(MatriceMorse<double> &S) {
   const int n = S.n;
-  cholmod_start(&F.common);
-  F.started = true;
-  F.common.print = 0;
-  F.common.error_handler = nullptr;
-  F.n = n;
-  F.nc = C.n;
-
-  // upper triangle of S (stype = 1); a half-stored (sym) matrix keeps its lower triangle
   S.COO();
   size_t nz = 0;
   for (size_t k = 0; k < S.nnz; k++) if (S.half || S.i[k] <= S.j[k]) nz++;
@@ -318,6 +321,18 @@ long factorizeOrFail(MatriceMorse<double> &S, MatriceMorse<double> &C) {
   }
   cholmod_sparse *A = cholmod_triplet_to_sparse(T, nz, &F.common);
   cholmod_free_triplet(&T, &F.common);
+  return A;
+}
+
+long factorizeOrFail(MatriceMorse<double> *S, MatriceMorse<double> &C, int n) {
+  cholmod_start(&F.common);
+  F.started = true;
+  F.common.print = 0;
+  F.common.error_handler = nullptr;
+  F.n = n;
+  F.nc = C.n;
+  cholmod_sparse *A = S ? upperFromMorse(*S) : upperFromProducts();
+  if (!A) return 2;
 
   // the contact unknowns (columns of C) go last: CAMD with two constraint sets
   C.COO();
@@ -552,12 +567,55 @@ struct Products {
 };
 Products P3;
 
+// M, A, B as FreeFEM assembles them on one mesh: the same entries (i, j), in the same order,
+// three values each; then one counting sort by row and a sort within each short row give the
+// merged CSR form in one pass, without FreeFEM's CSR conversion of each matrix. Otherwise
+// (patterns that differ) the rows of the three CSR forms are merged.
+bool samePattern(MatriceMorse<double> *const mats[3]) {
+  for (int k = 1; k < 3; k++) {
+    if (mats[k]->nnz != mats[0]->nnz || mats[k]->fortran != mats[0]->fortran) return false;
+    if (!mats[k]->i || !mats[k]->j || !mats[0]->i || !mats[0]->j) return false;
+    for (size_t e = 0; e < mats[0]->nnz; e++)
+      if (mats[k]->i[e] != mats[0]->i[e] || mats[k]->j[e] != mats[0]->j[e]) return false;
+  }
+  return mats[0]->fortran == 0;
+}
+
+void mergeByCountingSort(MatriceMorse<double> *const mats[3], int n) {
+  const size_t nnz = mats[0]->nnz;
+  const int *I = mats[0]->i, *J = mats[0]->j;
+  std::vector<int> count(n + 1, 0), order(nnz);
+  for (size_t e = 0; e < nnz; e++) count[I[e] + 1]++;
+  for (int r = 0; r < n; r++) count[r + 1] += count[r];
+  std::vector<int> fill(count.begin(), count.end() - 1);
+  for (size_t e = 0; e < nnz; e++) order[fill[I[e]]++] = (int)e;
+  P3.n = n;
+  P3.start.assign(n + 1, 0);
+  P3.column.clear(); P3.values.clear();
+  P3.column.reserve(nnz); P3.values.reserve(3 * nnz);
+  for (int r = 0; r < n; r++) {
+    int *first = order.data() + count[r], *last = order.data() + count[r + 1];
+    std::sort(first, last, [&](int a, int b) { return J[a] < J[b]; });
+    for (int *o = first; o < last; o++) {
+      const int e = *o;
+      if (o > first && J[e] == P3.column.back()) {     // a repeated entry adds up
+        for (int k = 0; k < 3; k++) P3.values[P3.values.size() - 3 + k] += mats[k]->aij[e];
+        continue;
+      }
+      P3.column.push_back(J[e]);
+      for (int k = 0; k < 3; k++) P3.values.push_back(mats[k]->aij[e]);
+    }
+    P3.start[r + 1] = (int)P3.column.size();
+  }
+}
+
 long products(Matrice_Creuse<double> *const &pM, Matrice_Creuse<double> *const &pA, Matrice_Creuse<double> *const &pB) {
   MatriceMorse<double> *mats[3] = {morse(pM), morse(pA), morse(pB)};
   const int n = mats[0]->n;
   for (int k = 0; k < 3; k++)
     if (mats[k]->n != n || mats[k]->m != n || mats[k]->half)
       ExecError("contactKernelProducts: M, A, B must be square, of one size, stored in full (not sym)");
+  if (samePattern(mats)) { mergeByCountingSort(mats, n); return 0; }
   // the union of the three patterns, row by row, with the values of each matrix: the rows of
   // the CSR forms (columns sorted within a row) merged three ways, in one pass over the entries
   const int *rowStart[3], *col[3];
@@ -588,6 +646,82 @@ long products(Matrice_Creuse<double> *const &pM, Matrice_Creuse<double> *const &
     P3.start[i + 1] = (int)P3.column.size();
   }
   return 0;
+}
+
+// S = cm M + ca A + cb B + D + tgv on the fixed degrees of freedom, from the merged CSR form
+// of M, A, B (contactKernelProducts) without a FreeFEM matrix: the upper triangle in CSC, the
+// entries (i, j >= i) of each row i in column j, summed in the order of FreeFEM's sum
+// (1/k) M + A + k B + D + Dirichlet: the same matrix, to the last bit, as that sum's upper
+// triangle, which is what contactKernelFactorize would factorize.
+struct StepMatrix {
+  double cm = 0, ca = 0, cb = 0, tgv = 1e30;
+  MatriceMorse<double> *D = nullptr;
+  const double *fixed = nullptr;
+};
+StepMatrix SM;
+
+cholmod_sparse *upperFromProducts() {
+  const int n = P3.n;
+  std::vector<int> columnStart(n + 1, 0);          // the entries (i, j >= i) of row i go to column j
+  for (int i = 0; i < n; i++)
+    for (int e = P3.start[i]; e < P3.start[i + 1]; e++) if (P3.column[e] >= i) columnStart[P3.column[e] + 1]++;
+  for (int j = 0; j < n; j++) columnStart[j + 1] += columnStart[j];
+  cholmod_sparse *A = cholmod_allocate_sparse(n, n, columnStart[n], 1, 1, 1, CHOLMOD_REAL, &F.common);
+  if (!A) return nullptr;
+  int *Ap = static_cast<int *>(A->p), *Ai = static_cast<int *>(A->i);
+  double *Ax = static_cast<double *>(A->x);
+  std::copy(columnStart.begin(), columnStart.end(), Ap);
+  std::vector<int> fill(columnStart.begin(), columnStart.end() - 1);
+  for (int i = 0; i < n; i++)                        // rows in order: each column's rows come sorted
+    for (int e = P3.start[i]; e < P3.start[i + 1]; e++) {
+      const int j = P3.column[e];
+      if (j < i) continue;
+      const double *v = P3.values.data() + 3 * (size_t)e;
+      Ai[fill[j]] = i;
+      Ax[fill[j]++] = SM.cm * v[0] + v[1] * SM.ca + SM.cb * v[2];
+    }
+  auto entry = [&](int i, int j) -> double * {       // (i, j), i <= j: in column j, row i
+    const int *first = Ai + Ap[j], *last = Ai + Ap[j + 1];
+    const int *at = std::lower_bound(first, last, i);
+    return at != last && *at == i ? Ax + (at - Ai) : nullptr;
+  };
+  MatriceMorse<double> &D = *SM.D;
+  D.COO();
+  for (size_t e = 0; e < D.nnz; e++) {
+    int i = D.i[e], j = D.j[e];
+    if (D.half) { if (i > j) std::swap(i, j); }
+    else if (i > j) continue;
+    double *x = entry(i, j);
+    if (!x) { cholmod_free_sparse(&A, &F.common); ExecError("contactKernelFactorizeStep: C'W Kn C has an entry outside the pattern of M, A, B"); }
+    *x += D.aij[e];
+  }
+  for (int i = 0; i < n; i++)
+    if (SM.fixed[i] != 0) *entry(i, i) += SM.tgv;
+  return A;
+}
+
+// S = cm M + ca A + cb B + D (+ tgv on the degrees of freedom where fixed is 1), factorized as
+// contactKernelFactorize would factorize that matrix (contactKernelProducts first)
+long factorizeStep(const double &cm, const double &ca, const double &cb, Matrice_Creuse<double> *const &pD,
+                   KN<double> *const &fixed, Matrice_Creuse<double> *const &pC) {
+  requireNodes("contactKernelFactorizeStep");
+  if (P3.n == 0) ExecError("contactKernelFactorizeStep: call contactKernelProducts first");
+  MatriceMorse<double> &D = *morse(pD), &C = *morse(pC);
+  if (D.n != P3.n || D.m != P3.n || (int)fixed->N() != P3.n)
+    ExecError("contactKernelFactorizeStep: D and the fixed degrees of freedom must have the size of M, A, B");
+  checkContactOperator(C, P3.n, "contactKernelFactorizeStep");
+  for (int i = 0; i < P3.n; i++) {                   // a fixed degree of freedom needs its diagonal entry
+    bool diagonal = false;
+    for (int e = P3.start[i]; e < P3.start[i + 1]; e++) diagonal = diagonal || P3.column[e] == i;
+    if (!diagonal) ExecError("contactKernelFactorizeStep: M, A, B have no diagonal entry in row " + std::to_string(i));
+  }
+  SM.cm = cm; SM.ca = ca; SM.cb = cb; SM.D = &D; SM.fixed = &(*fixed)[0];
+  F.release();
+  F.generation++;
+  const long status = factorizeOrFail(nullptr, C, P3.n);
+  if (status != 0) F.release();
+  SM.D = nullptr; SM.fixed = nullptr;
+  return status;
 }
 
 long multiply(KN<double> *const &pv, KN<double> *const &pMv, KN<double> *const &pAv, KN<double> *const &pBv) {
@@ -786,6 +920,7 @@ long stepRecord(KN<double> *const &pv, KN<double> *const &pu, KN<double> *const 
 // of a factorization), or when a corrected solve fails its residual check.
 struct Newton {
   std::vector<double> N0, Y, Delta, K;
+  std::vector<std::vector<double>> unitSolves;   // N0^-1 e_j, for the slots j solved since N0's factorization
   std::vector<int> pivots, Kpivots, changed, baseS, preparedS;
   std::vector<double> baseA, baseD, preparedA, preparedD;
   bool haveBase = false;
@@ -880,6 +1015,7 @@ bool newtonFactorBase() {
   Q.pivots.resize(nc);
   int info = 0;
   dgetrf_(&nc, &nc, Q.N0.data(), &nc, Q.pivots.data(), &info);
+  Q.unitSolves.assign(nc, std::vector<double>());
   Q.factorizations++;
   Q.haveBase = info == 0;
   Q.generation = F.generation;
@@ -914,11 +1050,20 @@ bool newtonPrepare() {
       Q.Delta[k + (size_t)i * r] = -L.a[j] * F.Dw[L.slot[j] + (size_t)i * nc] + Q.baseA[j] * F.Dw[Q.baseS[j] + (size_t)i * nc];
     Q.Delta[k + (size_t)j * r] += L.d[j] - Q.baseD[j];
   }
-  // Y = N0^-1 E_R, K = I + Delta Y
+  // Y = N0^-1 E_R, K = I + Delta Y; a column N0^-1 e_j depends on N0 only: solved once per
+  // factorization of N0 and kept (the same slots change again and again within a run)
   Q.Y.assign((size_t)nc * r, 0.);
-  for (int k = 0; k < r; k++) Q.Y[R[k] + (size_t)k * nc] = 1.;
   int info = 0;
-  dgetrs_("N", &nc, &r, Q.N0.data(), &nc, Q.pivots.data(), Q.Y.data(), &nc, &info);
+  for (int k = 0; k < r; k++) {
+    std::vector<double> &column = Q.unitSolves[R[k]];
+    if (column.empty()) {
+      column.assign(nc, 0.);
+      column[R[k]] = 1.;
+      const int one = 1;
+      dgetrs_("N", &nc, &one, Q.N0.data(), &nc, Q.pivots.data(), column.data(), &nc, &info);
+    }
+    std::copy(column.begin(), column.end(), Q.Y.begin() + (size_t)k * nc);
+  }
   Q.K.assign((size_t)r * r, 0.);
   for (int k = 0; k < r; k++) Q.K[k + (size_t)k * r] = 1.;
   const double one = 1.;
@@ -1408,6 +1553,8 @@ static void Load_Init() {
   Global.Add("contactKernelNodeVelocity", "(", new OneOperator1_<long, Matrice_Creuse<double> *>(nodeVelocity));
   Global.Add("contactKernelDampingSlope", "(", new OneOperator1_<long, KN<double> *>(dampingSlope));
   Global.Add("contactKernelFactorize", "(", new OneOperator2_<long, Matrice_Creuse<double> *, Matrice_Creuse<double> *>(factorize));
+  Global.Add("contactKernelFactorizeStep", "(", new OneOperator6_<long, double, double, double, Matrice_Creuse<double> *, KN<double> *,
+                                                                    Matrice_Creuse<double> *>(factorizeStep));
   Global.Add("contactKernelDelassus", "(", new OneOperator1_<long, KNM<double> *>(delassus));
   Global.Add("contactKernelLargestEntry", "(", new OneOperator1_<double, Matrice_Creuse<double> *>(largestEntry));
   Global.Add("contactKernelSolve", "(", new OneOperator2_<long, KN<double> *, KN<double> *>(solve));

@@ -95,7 +95,7 @@ char madeParentPathC[4096];
 size_t madeParentLength[2048];
 char temporaryC[4096];                               // a file this run writes outside OUT (gmsh's mesh)
 volatile sig_atomic_t cleanPartial = 0, cleanOut = 0, madeParents = 0, haveTemporary = 0;
-volatile pid_t gmshChild = 0;                        // a running gmsh
+volatile pid_t runningChild = 0;                     // a running gmsh or pilot run
 
 void syncBuffers() {
   cleanPartial = 0; cleanOut = 0;
@@ -135,7 +135,7 @@ void removeTree(const char *path) { removeTreeAt(AT_FDCWD, path, 0); }
 
 // what the run created, and only that
 void cleanUp() {
-  if (gmshChild > 0) { kill(gmshChild, SIGKILL); gmshChild = 0; }   // our child; its file is removed below
+  if (runningChild > 0) { kill(runningChild, SIGKILL); runningChild = 0; }   // our child; its file is removed below
   if (haveTemporary) { unlink(temporaryC); haveTemporary = 0; }
   if (cleanPartial) removeTree(partialPathC);
   if (cleanOut) rmdir(outPathC);                    // only if still empty
@@ -555,6 +555,7 @@ long runCreateFile(string *const &path) {
   return 0;
 }
 void forgetTemporary(const std::string &path) { if (haveTemporary && path == temporaryC) haveTemporary = 0; }
+long runRemoveFolder(string *const &path) { removeTree(path->c_str()); return 0; }
 long runRemoveFile(string *const &path) { forgetTemporary(*path); return unlink(path->c_str()) == 0 ? 0 : 1; }
 long runRename(string *const &from, string *const &to) {
   const bool ok = rename(from->c_str(), to->c_str()) == 0;
@@ -652,31 +653,52 @@ long runFolderFinish() {
   return 0;
 }
 
-// ---------------------------------------------------------------- gmsh, without a shell
+// ---------------------------------------------------------------- child processes, without a shell
+// spawn file (searched in PATH) with args, its standard output and error into log (/dev/null
+// by default); the child is stopped if the run is; returns its exit status, 128 + the signal
+// that ended it, or 127 when it could not be started
+int spawnAndWait(const std::string &file, const std::vector<std::string> &args, const std::string &log = "/dev/null") {
+  std::vector<char *> argv;
+  for (auto &a : args) argv.push_back(const_cast<char *>(a.c_str()));
+  argv.push_back(nullptr);
+  posix_spawn_file_actions_t actions;
+  posix_spawn_file_actions_init(&actions);
+  posix_spawn_file_actions_addopen(&actions, 1, log.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+  posix_spawn_file_actions_adddup2(&actions, 1, 2);
+  pid_t child;
+  const int spawned = posix_spawnp(&child, file.c_str(), &actions, nullptr, argv.data(), environ);
+  posix_spawn_file_actions_destroy(&actions);
+  if (spawned != 0) return 127;
+  runningChild = child;                              // stopped if the run is
+  int status = 0;
+  while (waitpid(child, &status, 0) < 0 && errno == EINTR) {}
+  runningChild = 0;
+  return WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
+}
+
 long runGmsh(string *const &geo, string *const &out, string *const &numbers) {
   std::vector<std::string> args = {"gmsh", "-2", "-format", "msh22", "-v", "0"};
   std::stringstream in(*numbers);
   std::string name, value;
   while (in >> name >> value) { args.push_back("-setnumber"); args.push_back(name); args.push_back(value); }
   args.push_back(*geo); args.push_back("-o"); args.push_back(*out);
-  std::vector<char *> argv;
-  for (auto &a : args) argv.push_back(const_cast<char *>(a.c_str()));
-  argv.push_back(nullptr);
-  posix_spawn_file_actions_t actions;
-  posix_spawn_file_actions_init(&actions);
-  posix_spawn_file_actions_addopen(&actions, 1, "/dev/null", O_WRONLY, 0);
-  posix_spawn_file_actions_addopen(&actions, 2, "/dev/null", O_WRONLY, 0);
-  pid_t child;
   std::snprintf(temporaryC, sizeof temporaryC, "%s", out->c_str());   // removed if the run fails
   haveTemporary = 1;
-  const int spawned = posix_spawnp(&child, "gmsh", &actions, nullptr, argv.data(), environ);
-  posix_spawn_file_actions_destroy(&actions);
-  if (spawned != 0) return 127;
-  gmshChild = child;                                 // stopped if the run is
-  int status = 0;
-  while (waitpid(child, &status, 0) < 0 && errno == EINTR) {}
-  gmshChild = 0;
-  return WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
+  return spawnAndWait("gmsh", args);
+}
+
+// this FreeFEM program again, with the arguments of the text (one a line), its standard
+// output and error into log (the pilot runs of -adapt)
+long runFreeFem(string *const &arguments, string *const &log) {
+  char self[4096];
+  const ssize_t l = readlink("/proc/self/exe", self, sizeof self - 1);
+  if (l <= 0) return 127;
+  self[l] = 0;
+  std::vector<std::string> args = {self};
+  std::stringstream in(*arguments);
+  std::string line;
+  while (std::getline(in, line)) args.push_back(line);
+  return spawnAndWait(self, args, *log);
 }
 
 // ---------------------------------------------------------------- the mesh checker
@@ -1071,10 +1093,12 @@ static void Load_Init() {
   Global.Add("runCopyFile", "(", new OneOperator2_<long, string *, string *>(runCopyFile));
   Global.Add("runCreateFile", "(", new OneOperator1_<long, string *>(runCreateFile));
   Global.Add("runRemoveFile", "(", new OneOperator1_<long, string *>(runRemoveFile));
+  Global.Add("runRemoveFolder", "(", new OneOperator1_<long, string *>(runRemoveFolder));
   Global.Add("runRename", "(", new OneOperator2_<long, string *, string *>(runRename));
   Global.Add("runMakeFolders", "(", new OneOperator1_<long, string *>(runMakeFolders));
   Global.Add("runFolderFinish", "(", new OneOperator0<long>(runFolderFinish));
   Global.Add("runGmsh", "(", new OneOperator3_<long, string *, string *, string *>(runGmsh));
+  Global.Add("runFreeFem", "(", new OneOperator2_<long, string *, string *>(runFreeFem));
   Global.Add("runMeshExtentRatio", "(", new OneOperator0<double>(runMeshExtentRatio));
   Global.Add("runCheckMesh", "(", new OneOperator6_<long, string *, string *, string *, string *, string *, long>(runCheckMesh));
 }

@@ -110,8 +110,22 @@ def iterations_table(bench):
     return columns, rows
 
 
+def final_contact(folder):
+    """x_B, x_C and the normal force at T (the last row of contact_history.txt; nan if none)."""
+    path = os.path.join(folder, "contact_history.txt")
+    if not os.path.isfile(path):
+        return NAN, NAN, NAN
+    table = suite.read_table(path)
+    return tuple(float(table[k][-1]) for k in ("x_B", "x_C", "normal_force"))
+
+
+TIME_REFERENCE = "timeref-66x33-dt0.00125"
+
+
 def work_precision_table(bench, reference):
     rows = []
+    ref_contact = final_contact(reference)
+    time_contact = final_contact(os.path.join(bench, "runs", TIME_REFERENCE))
     for name in all_names(bench, "wp-"):
         r = run_record(bench, name)
         family = name.split("-")[1]
@@ -120,16 +134,87 @@ def work_precision_table(bench, reference):
         e, se = r["error"], r["solver_error"]
         rel = e.get("error_L2", NAN) / e["norm_L2"] if e.get("norm_L2") else NAN
         srel = se.get("error_L2", NAN) / se["norm_L2"] if se.get("norm_L2") else NAN
-        rows.append([name, family, int(r["converged"]), r["wall"], e.get("error_L2", NAN), rel, e.get("error_gamma3", NAN),
+        against = time_contact if family == "dt" else ref_contact
+        xb, xc, fn = final_contact(os.path.join(bench, "runs", name)) if r["converged"] else (NAN, NAN, NAN)
+        rows.append([name, family, int(r["converged"]), value(r, "vertices"), r["wall"], e.get("error_L2", NAN), rel,
+                     e.get("error_gamma3", NAN), abs(xb - against[0]), abs(xc - against[1]), abs(fn - against[2]) / abs(against[2]),
                      srel, value(r, "time_loop")])
-    columns = "run family converged wall error_L2 relative_error_L2 error_gamma3 relative_solver_error_L2 time_loop".split()
+    columns = ("run family converged vertices wall error_L2 relative_error_L2 error_gamma3 error_x_B error_x_C "
+               "relative_error_normal_force relative_solver_error_L2 time_loop").split()
     suite.write_table(os.path.join(bench, "work_precision.txt"),
-                      [f"error at T against the reference {os.path.basename(reference)} (edp/compare.edp:",
-                       "||v - v_ref||_L2(Omega) with the consistent mass matrix of the reference mesh, and max |dv_nu| on",
-                       "Gamma3), against the wall seconds of the whole process; relative_solver_error_L2 (the tol family",
-                       "only): the same distance to the 66x33 run solved to tol 1e-13, relative; time_loop: wall seconds",
-                       "of the time loop alone (summary.txt)"], columns, rows)
+                      [f"error at T against the reference {os.path.basename(reference)} (the family dt: against the",
+                       f"66x33 run at k = 0.00125, {TIME_REFERENCE}) (edp/compare.edp: ||v - v_ref||_L2(Omega) with the",
+                       "consistent mass matrix of the reference mesh, and max |dv_nu| on Gamma3; x_B, x_C and the normal",
+                       "force at T from contact_history.txt), against the wall seconds of the whole process, adaptation",
+                       "included; relative_solver_error_L2 (the tol family only): the same distance to the 66x33 run",
+                       "solved to tol 1e-13, relative; time_loop: wall seconds of the time loop alone (summary.txt)"],
+                      columns, rows)
     return columns, rows
+
+
+def slope(xs, ys):
+    """Least-squares slope of log y against log x (nan with fewer than two points)."""
+    pts = [(math.log(x), math.log(y)) for x, y in zip(xs, ys) if x > 0 and y > 0 and not math.isnan(y)]
+    if len(pts) < 2:
+        return NAN
+    mx = sum(p[0] for p in pts) / len(pts)
+    my = sum(p[1] for p in pts) / len(pts)
+    return sum((p[0] - mx) * (p[1] - my) for p in pts) / sum((p[0] - mx) ** 2 for p in pts)
+
+
+def rates_and_margin(bench, reference, columns, rows):
+    """rates.txt: the observed rates of the relative L2 error (in h = 1/sqrt(vertices) for the
+    meshes, in k for the time steps); reference.txt: the reference's estimated error and its
+    margin below the smallest error the table reports; the targets of the adapted meshes."""
+    c = {name: i for i, name in enumerate(columns)}
+    ok = [r for r in rows if r[c["converged"]] and not math.isnan(r[c["relative_error_L2"]])]
+    rate_rows = []
+    for family, meaning in (("mesh", "uniform meshes, in h (h ~ vertices^-1/2)"),
+                            ("adapt1", "adapted meshes, one round, in h = vertices^-1/2"),
+                            ("adapt2", "adapted meshes, two rounds, in h = vertices^-1/2")):
+        pts = [r for r in ok if r[c["family"]] == family]
+        rate = slope([r[c["vertices"]] ** -0.5 for r in pts], [r[c["relative_error_L2"]] for r in pts])
+        wall = -slope([r[c["wall"]] for r in pts], [r[c["relative_error_L2"]] for r in pts])
+        rate_rows.append([family, len(pts), rate, wall, meaning])
+    pts = [r for r in ok if r[c["family"]] == "dt"]
+    ks = [float(r[c["run"]].split("-")[-1]) for r in pts]
+    rate_rows.append(["dt", len(pts), slope(ks, [r[c["relative_error_L2"]] for r in pts]), NAN,
+                      "time steps on 66x33, in k (against k = 0.00125)"])
+    suite.write_table(os.path.join(bench, "rates.txt"),
+                      ["observed rates: the least-squares slope of log(relative L2 error of v at T) against log h or",
+                       "log k (rate), and against log(wall seconds) (per_wall, negated: error ~ wall^-per_wall)"],
+                      "family points rate per_wall meaning".split(), rate_rows)
+    check = run_record(bench, "check-adapted")
+    e = check["error"]
+    estimate = e.get("error_L2", NAN) / e["norm_L2"] if e.get("norm_L2") else NAN
+    space = [r[c["relative_error_L2"]] for r in ok if r[c["family"]] in ("mesh", "adapt1", "adapt2")]
+    smallest = min(space) if space else NAN
+    suite.write_table(os.path.join(bench, "reference.txt"),
+                      ["the reference's error: estimated as its distance to the check run (twice its -adapt_err; the",
+                       "error of an adapted mesh falls like -adapt_err, so the check's error is about twice the",
+                       "reference's and the distance about the reference's own), and the margin below the smallest",
+                       "error of a uniform or adapted run in work_precision.txt"],
+                      "reference vertices estimated_relative_error smallest_reported_error margin".split(),
+                      [[os.path.basename(reference), value(run_record(bench, "reference-adapted"), "vertices"), estimate,
+                        smallest, smallest / estimate if estimate > 0 else NAN]])
+    for r in rate_rows:
+        print(f"  rate {r[0]:7s} {r[2]:6.2f} in h or k, error ~ wall^-{r[3]:.2f}  ({r[4]}, {r[1]} points)")
+    print(f"  reference: estimated relative error {estimate:.3e}, smallest reported error {smallest:.3e}, "
+          f"margin {smallest / estimate if estimate > 0 else NAN:.1f}x")
+    uniform = [r for r in ok if r[c["run"]] == "wp-mesh-264x132"]
+    if uniform:
+        target, wall = uniform[0][c["relative_error_L2"]], uniform[0][c["wall"]]
+        better = sorted((r[c["wall"]], r[c["run"]], r[c["relative_error_L2"]]) for r in ok
+                        if r[c["family"]].startswith("adapt") and r[c["relative_error_L2"]] <= target)
+        if better:
+            print(f"  target: uniform 264x132 reaches {target:.3e} in {wall:.2f} s; {better[0][1]} reaches {better[0][2]:.3e} "
+                  f"in {better[0][0]:.2f} s: {wall / better[0][0]:.1f}x less wall time")
+        else:
+            print(f"  target: no adapted run reaches the error {target:.3e} of uniform 264x132")
+    fast = [r for r in ok if r[c["family"]].startswith("adapt") and r[c["wall"]] < 1
+            and max(r[c["error_x_B"]], r[c["error_x_C"]]) <= 2e-3]
+    print("  x_B and x_C within 2e-3 m under 1 s: " + (", ".join(f"{r[c['run']]} ({r[c['wall']]:.2f} s, "
+          f"{max(r[c['error_x_B']], r[c['error_x_C']]):.1e} m)" for r in fast) if fast else "none"))
 
 
 def chart_cost_per_step(bench, columns, rows):
@@ -188,41 +273,108 @@ def parameter_order(name):
 
 def chart_work_precision(bench, columns, rows):
     c = {name: i for i, name in enumerate(columns)}
-    fig, (ax, solver_ax) = plt.subplots(1, 2, figsize=(12, 4.5))
-    labels = {"mesh": "mesh h (k = 0.01)", "dt": "time step k (66x33)", "full": "full-system Newton (66x33)",
+    fig, (ax, contact_ax, solver_ax) = plt.subplots(1, 3, figsize=(17, 4.8))
+    labels = {"mesh": "uniform mesh (k = 0.01)", "adapt1": "adapted, 1 round from 33x16 (-adapt_err)",
+              "adapt2": "adapted, 2 rounds from 33x16 (-adapt_err)",
+              "dt": "time step k (66x33, against k = 0.00125)", "full": "full-system Newton (66x33)",
               "penalty": "penalty eps (66x33, against the original reference)",
               "tol-newton": "Newton, tol 1e-4 ... 1e-10 (66x33)", "tol-fixedpoint": "fixed point, tol 1e-4 ... 1e-10 (66x33)"}
     # label offsets per family, so that the labels around the 66x33 point do not overlap
-    offsets = {"mesh": ((3, 3), "left"), "dt": ((3, -10), "left"), "full": ((3, 3), "left"),
+    offsets = {"mesh": ((3, 3), "left"), "adapt1": ((3, -9), "left"), "adapt2": ((-4, 3), "right"),
+               "dt": ((3, -10), "left"), "full": ((3, 3), "left"),
                "penalty": ((-4, 3), "right"), "tol-newton": ((3, -8), "left"), "tol-fixedpoint": ((-4, -8), "right")}
-    for family, marker in (("mesh", "o-"), ("dt", "s-"), ("full", "^"), ("penalty", "v-"),
-                           ("tol-newton", "P-"), ("tol-fixedpoint", "X-")):
-        pts = sorted(((r[c["wall"]], r[c["relative_error_L2"]], r[c["run"]], r[c["relative_solver_error_L2"]],
-                       r[c["time_loop"]]) for r in rows
-                      if r[c["family"]] == family and r[c["converged"]] and not math.isnan(r[c["relative_error_L2"]])),
-                     key=lambda p: parameter_order(p[2]))
+    for family, marker in (("mesh", "o-"), ("adapt1", "D-"), ("adapt2", "d-"), ("dt", "s-"), ("full", "^"),
+                           ("penalty", "v-"), ("tol-newton", "P-"), ("tol-fixedpoint", "X-")):
+        pts = sorted((r for r in rows if r[c["family"]] == family and r[c["converged"]]
+                      and not math.isnan(r[c["relative_error_L2"]])), key=lambda r: parameter_order(r[c["run"]]))
         if not pts:
             continue
-        ax.loglog([p[0] for p in pts], [p[1] for p in pts], marker, label=labels[family])
-        for p in pts:
-            ax.annotate(p[2].split("-")[-1] if family.startswith("tol") else p[2].split("-", 2)[-1], (p[0], p[1]),
+        ax.loglog([r[c["wall"]] for r in pts], [r[c["relative_error_L2"]] for r in pts], marker, label=labels[family])
+        for r in pts:
+            name = r[c["run"]]
+            ax.annotate(name.split("-")[-1] if family.startswith("tol") else name.split("-", 2)[-1],
+                        (r[c["wall"]], r[c["relative_error_L2"]]),
                         fontsize=6, xytext=offsets[family][0], textcoords="offset points", ha=offsets[family][1])
+        if family in ("mesh", "adapt1", "adapt2"):
+            color = ax.get_lines()[-1].get_color()
+            contact_ax.loglog([r[c["wall"]] for r in pts], [max(r[c["error_x_B"]], r[c["error_x_C"]], 1e-5) for r in pts],
+                              marker, color=color, label=labels[family] + ": max |x_B err|, |x_C err| (m)")
+            contact_ax.loglog([r[c["wall"]] for r in pts], [r[c["relative_error_normal_force"]] for r in pts],
+                              marker[0] + ":", color=color, alpha=0.5, label=labels[family] + ": normal force, relative")
         if family.startswith("tol"):
-            sol = [p for p in pts if p[3] > 0]
+            sol = [r for r in pts if r[c["relative_solver_error_L2"]] > 0]
             if sol:
-                solver_ax.loglog([p[4] for p in sol], [p[3] for p in sol], marker, label=labels[family])
-                for p in sol:
-                    solver_ax.annotate("tol " + p[2].split("-")[-1], (p[4], p[3]), fontsize=6, xytext=(3, 3),
-                                       textcoords="offset points")
-    ax.set_xlabel("wall seconds of the whole run (FreeFEM start-up included)")
+                solver_ax.loglog([r[c["time_loop"]] for r in sol], [r[c["relative_solver_error_L2"]] for r in sol], marker,
+                                 label=labels[family])
+                for r in sol:
+                    solver_ax.annotate("tol " + r[c["run"]].split("-")[-1], (r[c["time_loop"]], r[c["relative_solver_error_L2"]]),
+                                       fontsize=6, xytext=(3, 3), textcoords="offset points")
+    ax.set_xlabel("wall seconds of the whole run (start-up and adaptation included)")
     ax.set_ylabel(r"$\|v - v_{ref}\|_{L^2(\Omega)} / \|v_{ref}\|$ at T")
-    ax.set_title("work and precision (against the fine reference)")
-    ax.legend(fontsize=7)
+    ax.set_title("work and precision (against the adapted reference)")
+    ax.legend(fontsize=6)
+    contact_ax.axhline(2e-3, color="0.6", linewidth=1)
+    contact_ax.axvline(1, color="0.6", linewidth=1)
+    contact_ax.set_xlabel("wall seconds of the whole run")
+    contact_ax.set_ylabel("error at T (x_B, x_C in m, floored at 1e-5; force relative)")
+    contact_ax.set_title("contact quantities on Gamma3 (grey: 2e-3 m, 1 s)")
+    contact_ax.legend(fontsize=5)
+    solver_ax.xaxis.set_minor_formatter(plt.NullFormatter())   # a narrow log range: no crowded minor labels
     solver_ax.set_xlabel("wall seconds of the time loop (66x33, 100 steps)")
     solver_ax.set_ylabel("relative L2 distance at T to the same mesh at tol 1e-13")
     solver_ax.set_title("what the tolerance buys each solver")
     solver_ax.legend(fontsize=7)
     return suite.save(fig, bench, "bench_work_precision")
+
+
+def chart_adapted_mesh(bench, columns, rows):
+    """The adapted mesh that first reaches the error of the uniform 264x132 mesh (or the most
+    accurate adapted run) beside that uniform mesh: the zones of Gamma3 at T as coloured nodes,
+    and a zoom on Gamma3 around x_B."""
+    c = {name: i for i, name in enumerate(columns)}
+    ok = [r for r in rows if r[c["converged"]] and not math.isnan(r[c["relative_error_L2"]])]
+    uniform = [r for r in ok if r[c["run"]] == "wp-mesh-264x132"] or sorted(
+        (r for r in ok if r[c["family"]] == "mesh"), key=lambda r: r[c["relative_error_L2"]])[:1]
+    adapted = sorted((r for r in ok if r[c["family"]].startswith("adapt")), key=lambda r: r[c["wall"]])
+    if not uniform or not adapted:
+        return None
+    target = uniform[0][c["relative_error_L2"]]
+    adapted = [r for r in adapted if r[c["relative_error_L2"]] <= target][:1] or sorted(
+        adapted, key=lambda r: r[c["relative_error_L2"]])[:1]
+    fig, axes = plt.subplots(2, 2, figsize=(13, 6.2), gridspec_kw={"height_ratios": [2, 1]})
+    for col, r in enumerate((adapted[0], uniform[0])):
+        folder = os.path.join(bench, "runs", r[c["run"]])
+        mesh = suite.read_msh22(os.path.join(folder, "mesh.msh"))
+        table = suite.read_table(os.path.join(folder, "contact.txt"))
+        x, y = table["x"], table["y"]
+        zones = suite.zone_codes(table["normal_status"], table["tangential_status"])
+        xb, xc, _ = final_contact(folder)
+        for ax, zoom in ((axes[0][col], False), (axes[1][col], True)):
+            ax.triplot(mesh.xy[:, 0], mesh.xy[:, 1], mesh.triangles, color="0.3", linewidth=0.15)
+            for zone in suite.ZONES:
+                on = zones == zone.code
+                if on.any():
+                    ax.scatter(x[on], y[on], s=6 if zoom else 3, color=zone.color, zorder=3,
+                               label=zone.name if not zoom else None)
+            for edge in (xb, xc):
+                if not math.isnan(edge) and edge < 1e299:
+                    ax.axvline(edge, color="k", linestyle="--", linewidth=0.6)
+            ax.set_aspect("equal")
+            if not zoom:                                 # the corners where the solution is singular
+                ax.annotate("clamp meets the traction", (0, 1), xytext=(0.25, 1.08), fontsize=7,
+                            arrowprops={"arrowstyle": "->", "linewidth": 0.6})
+                ax.annotate("clamp meets Gamma3", (0, 0), xytext=(0.25, -0.12), fontsize=7,
+                            arrowprops={"arrowstyle": "->", "linewidth": 0.6})
+                ax.set_ylim(-0.18, 1.15)
+            if zoom:
+                ax.set_xlim(0.3, 1.5)
+                ax.set_ylim(-0.02, 0.2)
+                ax.set_title(f"near Gamma3 (dashed: x_B = {xb:.4f}, x_C = {xc:.4f})", fontsize=8)
+            else:
+                ax.set_title(f"{r[c['run']]}: {r[c['vertices']]:.0f} vertices, relative L2 error "
+                             f"{r[c['relative_error_L2']]:.2e}, {r[c['wall']]:.2f} s", fontsize=9)
+                ax.legend(fontsize=6, loc="upper right", markerscale=3)
+    return suite.save(fig, bench, "bench_adapted_mesh")
 
 
 def chart_iterations(bench, columns, rows):
@@ -276,9 +428,14 @@ def main():
     chart_iterations(args.bench, icolumns, irows)
     wcolumns, wrows = work_precision_table(args.bench, args.reference)
     chart_work_precision(args.bench, wcolumns, wrows)
+    w = {name: i for i, name in enumerate(wcolumns)}
     for r in wrows:
-        print(f"  {r[0]:28s} wall {r[3]:7.2f} s  relative L2 error {r[5]:.3e}  max |dv_nu| on Gamma3 {r[6]:.3e}"
-              + (f"  solver error {r[7]:.3e}" if not math.isnan(r[7]) else ""))
+        print(f"  {r[0]:28s} {r[w['vertices']]:7.0f} vertices, wall {r[w['wall']]:7.2f} s, relative L2 error "
+              f"{r[w['relative_error_L2']]:.3e}, x_B {r[w['error_x_B']]:.1e} m, x_C {r[w['error_x_C']]:.1e} m, normal force "
+              f"{r[w['relative_error_normal_force']]:.1e}"
+              + (f", solver error {r[w['relative_solver_error_L2']]:.3e}" if not math.isnan(r[w['relative_solver_error_L2']]) else ""))
+    rates_and_margin(args.bench, args.reference, wcolumns, wrows)
+    chart_adapted_mesh(args.bench, wcolumns, wrows)
     ic = {name: i for i, name in enumerate(icolumns)}
     for r in irows:
         print(f"  {r[ic['mode']]:10s} {r[ic['mesh']]:7s} r {r[ic['r']]:<7g} "

@@ -9,7 +9,10 @@
 #   steps.txt           cost per step and setup costs against the mesh, per solver mode
 #   iterations.txt      iterations and time per step against the augmentation r, Newton and
 #                       fixed point, on 66x33 and 132x66
-#   work_precision.txt  error against wall time for meshes, time steps, modes and eps
+#   work_precision.txt  error against wall time for uniform and adapted meshes, time steps,
+#                       modes, tolerances and eps; the errors of x_B, x_C and the normal force
+#   rates.txt           the observed convergence rates in h (uniform, adapted) and in k
+#   reference.txt       the reference's estimated error and its margin below the smallest error
 #   *.png               the charts (plots/bench.py)
 # --quick: the two coarsest meshes and fewer points.
 # Runs one solve at a time, so that the timings are not disturbed by a second process.
@@ -69,19 +72,30 @@ for m in "66 33" "132 66"; do
     run "iterations-${1}x${2}-fixedpoint-r$r" -nx "$1" -ny "$2" -r "$r" -solver fixedpoint -maxit 2000
   done
 done
-# ---- work-precision: error against wall time, against a fine reference solution
-reference="528 264"; refdt=0.0025
-[ "$quick" = 1 ] && { reference="132 66"; refdt=0.005; }
-set -- $reference
-run "reference-${1}x${2}-dt$refdt" -nx "$1" -ny "$2" -dt "$refdt"
-refdir="$out/runs/reference-${1}x${2}-dt$refdt"
+# ---- work-precision: error against wall time. The space reference is an adapted mesh far
+# finer than any run (about 100k vertices; its own error is estimated from the run at twice
+# its -adapt_err, the "check", and reported in reference.txt); every run uses k = 0.01, so
+# the distance is the error in space. The time error is measured on 66x33 against the same
+# mesh at k = 0.00125.
+refopts=(-nx 66 -ny 33 -adapt 2 -adapt_err 2.5e-5); checkopts=(-nx 66 -ny 33 -adapt 2 -adapt_err 5e-5)
+[ "$quick" = 1 ] && { refopts=(-nx 66 -ny 33 -adapt 2 -adapt_err 1e-4); checkopts=(-nx 66 -ny 33 -adapt 2 -adapt_err 2e-4); }
+run "reference-adapted" "${refopts[@]}"
+run "check-adapted" "${checkopts[@]}"
+refdir="$out/runs/reference-adapted"
 wp_meshes=("16 8" "33 16" "66 33" "132 66" "264 132")
 [ "$quick" = 1 ] && wp_meshes=("16 8" "33 16" "66 33")
 for m in "${wp_meshes[@]}"; do
   set -- $m
   run "wp-mesh-${1}x${2}" -nx "$1" -ny "$2"
 done
-for dt in 0.04 0.02 0.005; do
+# adapted meshes: one or two rounds from 33x16, each -adapt_err (the whole run timed, its
+# pilot runs included)
+errs1=(4e-3 2e-3 1e-3 5e-4 2.5e-4); errs2=(1e-3 5e-4 2.5e-4)
+[ "$quick" = 1 ] && { errs1=(2e-3 1e-3 5e-4); errs2=(1e-3); }
+for e in "${errs1[@]}"; do run "wp-adapt1-$e" -nx 33 -ny 16 -adapt 1 -adapt_err "$e"; done
+for e in "${errs2[@]}"; do run "wp-adapt2-$e" -nx 33 -ny 16 -adapt 2 -adapt_err "$e"; done
+run "timeref-66x33-dt0.00125" -dt 0.00125
+for dt in 0.04 0.02 0.01 0.005 0.0025; do
   run "wp-dt-$dt" -dt "$dt"
 done
 run "wp-full-66x33" -solver full
@@ -95,9 +109,11 @@ run "tight-66x33" -tol 1e-13
 for eps in 1e-2 1e-3 1e-4 1e-5; do
   run "wp-penalty-eps$eps" -problem penalty -eps "$eps"
 done
-for dir in "$out"/runs/wp-*; do
+for dir in "$out"/runs/wp-* "$out/runs/check-adapted"; do
   [ -f "$dir/summary.txt" ] || continue
-  FreeFem++-nw -ns -v 0 edp/compare.edp -a "$dir" -ref "$refdir" > "$dir.error" 2> /dev/null || true
+  against="$refdir"
+  case "$dir" in */wp-dt-*) against="$out/runs/timeref-66x33-dt0.00125" ;; esac
+  FreeFem++-nw -ns -v 0 edp/compare.edp -a "$dir" -ref "$against" > "$dir.error" 2> /dev/null || true
 done
 for dir in "$out"/runs/wp-tol-*; do
   [ -f "$dir/summary.txt" ] || continue

@@ -198,7 +198,11 @@ def rates_and_margin(bench, reference, columns, rows):
                       [[os.path.basename(reference), value(run_record(bench, "reference-adapted"), "vertices"), estimate,
                         smallest, smallest / estimate if estimate > 0 else NAN]])
     for r in rate_rows:
-        print(f"  rate {r[0]:7s} {r[2]:6.2f} in h or k, error ~ wall^-{r[3]:.2f}  ({r[4]}, {r[1]} points)")
+        if math.isnan(r[2]):
+            print(f"  rate {r[0]:7s} n/a ({r[4]}: {r[1]} point{'s' if r[1] != 1 else ''}, two needed)")
+            continue
+        per_wall = f", error ~ wall^-{r[3]:.2f}" if not math.isnan(r[3]) else ""
+        print(f"  rate {r[0]:7s} {r[2]:6.2f} in h or k{per_wall}  ({r[4]}, {r[1]} points)")
     print(f"  reference: estimated relative error {estimate:.3e}, smallest reported error {smallest:.3e}, "
           f"margin {smallest / estimate if estimate > 0 else NAN:.1f}x")
     uniform = [r for r in ok if r[c["run"]] == "wp-mesh-264x132"]
@@ -211,6 +215,8 @@ def rates_and_margin(bench, reference, columns, rows):
                   f"in {better[0][0]:.2f} s: {wall / better[0][0]:.1f}x less wall time")
         else:
             print(f"  target: no adapted run reaches the error {target:.3e} of uniform 264x132")
+    else:
+        print("  target: no uniform 264x132 run to compare with (--quick skips it)")
     fast = [r for r in ok if r[c["family"]].startswith("adapt") and r[c["wall"]] < 1
             and max(r[c["error_x_B"]], r[c["error_x_C"]]) <= 2e-3]
     print("  x_B and x_C within 2e-3 m under 1 s: " + (", ".join(f"{r[c['run']]} ({r[c['wall']]:.2f} s, "

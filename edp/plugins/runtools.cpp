@@ -65,6 +65,7 @@
 #include <spawn.h>
 #include <string>
 #include <sys/file.h>
+#include <sys/prctl.h>
 #include <sys/stat.h>
 #include <sys/syscall.h>
 #include <sys/wait.h>
@@ -506,6 +507,30 @@ long runFolderOpen(string *const &outText) {
   return 0;
 }
 
+// 1 if the cached file's POSIX checksum is the number its NAME.cksum holds (0 when either is
+// missing, unreadable, or holds anything else)
+long runCacheIntact(string *const &path) {
+  std::ifstream f(*path + ".cksum");
+  long long recorded = -1;
+  if (!(f >> recorded) || recorded < 0) return 0;
+  std::string rest;
+  if (f >> rest) return 0;
+  return posixChecksum(*path) == recorded ? 1 : 0;
+}
+
+// the line feeds of a file (-1 if it cannot be read)
+long runFileLines(string *const &path) {
+  int fd = open(path->c_str(), O_RDONLY);
+  if (fd < 0) return -1;
+  long count = 0;
+  char buffer[65536];
+  ssize_t n;
+  while ((n = read(fd, buffer, sizeof buffer)) > 0)
+    for (ssize_t i = 0; i < n; i++) count += buffer[i] == '\n';
+  close(fd);
+  return n == 0 ? count : -1;
+}
+
 // a file this run wrote: exactly `lines` complete lines, then on the disk
 long runFileComplete(string *const &path, const long &lines) {
   int fd = open(path->c_str(), O_RDONLY);
@@ -655,20 +680,26 @@ long runFolderFinish() {
 
 // ---------------------------------------------------------------- child processes, without a shell
 // spawn file (searched in PATH) with args, its standard output and error into log (/dev/null
-// by default); the child is stopped if the run is; returns its exit status, 128 + the signal
-// that ended it, or 127 when it could not be started
+// by default); the child is stopped if the run is (by a signal the run handles, or, through
+// PR_SET_PDEATHSIG, by its death even from SIGKILL); returns its exit status, 128 + the
+// signal that ended it, or 127 when it could not be started
 int spawnAndWait(const std::string &file, const std::vector<std::string> &args, const std::string &log = "/dev/null") {
   std::vector<char *> argv;
   for (auto &a : args) argv.push_back(const_cast<char *>(a.c_str()));
   argv.push_back(nullptr);
-  posix_spawn_file_actions_t actions;
-  posix_spawn_file_actions_init(&actions);
-  posix_spawn_file_actions_addopen(&actions, 1, log.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
-  posix_spawn_file_actions_adddup2(&actions, 1, 2);
-  pid_t child;
-  const int spawned = posix_spawnp(&child, file.c_str(), &actions, nullptr, argv.data(), environ);
-  posix_spawn_file_actions_destroy(&actions);
-  if (spawned != 0) return 127;
+  const pid_t parent = getpid();
+  const pid_t child = fork();
+  if (child < 0) return 127;
+  if (child == 0) {                                  // system calls only until exec
+    prctl(PR_SET_PDEATHSIG, SIGKILL);
+    if (getppid() != parent) _exit(127);             // the run died before prctl
+    const int fd = open(log.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+    if (fd < 0) _exit(127);
+    dup2(fd, 1); dup2(fd, 2);
+    if (fd > 2) close(fd);
+    execvp(file.c_str(), argv.data());
+    _exit(127);
+  }
   runningChild = child;                              // stopped if the run is
   int status = 0;
   while (waitpid(child, &status, 0) < 0 && errno == EINTR) {}
@@ -687,18 +718,15 @@ long runGmsh(string *const &geo, string *const &out, string *const &numbers) {
   return spawnAndWait("gmsh", args);
 }
 
-// this FreeFEM program again, with the arguments of the text (one a line), its standard
-// output and error into log (the pilot runs of -adapt)
-long runFreeFem(string *const &arguments, string *const &log) {
-  char self[4096];
-  const ssize_t l = readlink("/proc/self/exe", self, sizeof self - 1);
-  if (l <= 0) return 127;
-  self[l] = 0;
-  std::vector<std::string> args = {self};
+// this FreeFEM program again: program as it was started (ARGV[0]: FreeFem++-nw and FreeFem++
+// are one binary that reads its own name), then the arguments of the text (one a line); its
+// standard output and error into log (the pilot runs of -adapt)
+long runFreeFem(string *const &program, string *const &arguments, string *const &log) {
+  std::vector<std::string> args = {*program};
   std::stringstream in(*arguments);
   std::string line;
   while (std::getline(in, line)) args.push_back(line);
-  return spawnAndWait(self, args, *log);
+  return spawnAndWait(*program, args, *log);
 }
 
 // ---------------------------------------------------------------- the mesh checker
@@ -1098,7 +1126,9 @@ static void Load_Init() {
   Global.Add("runMakeFolders", "(", new OneOperator1_<long, string *>(runMakeFolders));
   Global.Add("runFolderFinish", "(", new OneOperator0<long>(runFolderFinish));
   Global.Add("runGmsh", "(", new OneOperator3_<long, string *, string *, string *>(runGmsh));
-  Global.Add("runFreeFem", "(", new OneOperator2_<long, string *, string *>(runFreeFem));
+  Global.Add("runFreeFem", "(", new OneOperator3_<long, string *, string *, string *>(runFreeFem));
+  Global.Add("runFileLines", "(", new OneOperator1_<long, string *>(runFileLines));
+  Global.Add("runCacheIntact", "(", new OneOperator1_<long, string *>(runCacheIntact));
   Global.Add("runMeshExtentRatio", "(", new OneOperator0<double>(runMeshExtentRatio));
   Global.Add("runCheckMesh", "(", new OneOperator6_<long, string *, string *, string *, string *, string *, long>(runCheckMesh));
 }

@@ -518,31 +518,37 @@ long runCacheIntact(string *const &path) {
   return posixChecksum(*path) == recorded ? 1 : 0;
 }
 
+// the line feeds of an open file read to its end, and its last character ('\n' if empty);
+// -1 on a read error
+long lineFeeds(int fd, char &last) {
+  long count = 0;
+  char buffer[65536];
+  ssize_t n;
+  last = '\n';
+  while ((n = read(fd, buffer, sizeof buffer)) > 0) {
+    for (ssize_t i = 0; i < n; i++) count += buffer[i] == '\n';
+    last = buffer[n - 1];
+  }
+  return n == 0 ? count : -1;
+}
+
 // the line feeds of a file (-1 if it cannot be read)
 long runFileLines(string *const &path) {
   int fd = open(path->c_str(), O_RDONLY);
   if (fd < 0) return -1;
-  long count = 0;
-  char buffer[65536];
-  ssize_t n;
-  while ((n = read(fd, buffer, sizeof buffer)) > 0)
-    for (ssize_t i = 0; i < n; i++) count += buffer[i] == '\n';
+  char last;
+  const long count = lineFeeds(fd, last);
   close(fd);
-  return n == 0 ? count : -1;
+  return count;
 }
 
 // a file this run wrote: exactly `lines` complete lines, then on the disk
 long runFileComplete(string *const &path, const long &lines) {
   int fd = open(path->c_str(), O_RDONLY);
   if (fd < 0) fail(7, "cannot read back " + *path + ": " + errorText());
-  long count = 0;
-  char last = '\n', buffer[65536];
-  ssize_t n;
-  while ((n = read(fd, buffer, sizeof buffer)) > 0) {
-    for (ssize_t i = 0; i < n; i++) count += buffer[i] == '\n';
-    last = buffer[n - 1];
-  }
-  const bool readOk = n == 0, synced = fsync(fd) == 0;
+  char last;
+  const long count = lineFeeds(fd, last);
+  const bool readOk = count >= 0, synced = fsync(fd) == 0;
   const std::string why = errorText();
   close(fd);
   if (!readOk || !synced) fail(7, "cannot write " + *path + ": " + why);

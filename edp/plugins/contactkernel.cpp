@@ -567,43 +567,83 @@ struct Products {
 };
 Products P3;
 
-// The union of the three patterns, row by row, with the values of each matrix: every entry
-// (i, j) of M, A and B is placed in its row by one counting sort over their COO forms, each
-// row (a few tens of entries) is sorted by column, and the entries of one column are added
-// into its three values. One pass, without FreeFEM's CSR conversion of each matrix.
+// M, A, B as FreeFEM assembles them on one mesh: the same entries (i, j), in the same order,
+// three values each; then one counting sort by row and a sort within each short row give the
+// merged CSR form in one pass, without FreeFEM's CSR conversion of each matrix. Otherwise
+// (patterns that differ) the rows of the three CSR forms are merged.
+bool samePattern(MatriceMorse<double> *const mats[3]) {
+  for (int k = 1; k < 3; k++) {
+    if (mats[k]->nnz != mats[0]->nnz || mats[k]->fortran != mats[0]->fortran) return false;
+    if (!mats[k]->i || !mats[k]->j || !mats[0]->i || !mats[0]->j) return false;
+    for (size_t e = 0; e < mats[0]->nnz; e++)
+      if (mats[k]->i[e] != mats[0]->i[e] || mats[k]->j[e] != mats[0]->j[e]) return false;
+  }
+  return mats[0]->fortran == 0;
+}
+
+void mergeByCountingSort(MatriceMorse<double> *const mats[3], int n) {
+  const size_t nnz = mats[0]->nnz;
+  const int *I = mats[0]->i, *J = mats[0]->j;
+  std::vector<int> count(n + 1, 0), order(nnz);
+  for (size_t e = 0; e < nnz; e++) count[I[e] + 1]++;
+  for (int r = 0; r < n; r++) count[r + 1] += count[r];
+  std::vector<int> fill(count.begin(), count.end() - 1);
+  for (size_t e = 0; e < nnz; e++) order[fill[I[e]]++] = (int)e;
+  P3.n = n;
+  P3.start.assign(n + 1, 0);
+  P3.column.clear(); P3.values.clear();
+  P3.column.reserve(nnz); P3.values.reserve(3 * nnz);
+  for (int r = 0; r < n; r++) {
+    int *first = order.data() + count[r], *last = order.data() + count[r + 1];
+    std::sort(first, last, [&](int a, int b) { return J[a] < J[b]; });
+    for (int *o = first; o < last; o++) {
+      const int e = *o;
+      if (o > first && J[e] == P3.column.back()) {     // a repeated entry adds up
+        for (int k = 0; k < 3; k++) P3.values[P3.values.size() - 3 + k] += mats[k]->aij[e];
+        continue;
+      }
+      P3.column.push_back(J[e]);
+      for (int k = 0; k < 3; k++) P3.values.push_back(mats[k]->aij[e]);
+    }
+    P3.start[r + 1] = (int)P3.column.size();
+  }
+}
+
 long products(Matrice_Creuse<double> *const &pM, Matrice_Creuse<double> *const &pA, Matrice_Creuse<double> *const &pB) {
   MatriceMorse<double> *mats[3] = {morse(pM), morse(pA), morse(pB)};
   const int n = mats[0]->n;
-  for (int k = 0; k < 3; k++) {
+  for (int k = 0; k < 3; k++)
     if (mats[k]->n != n || mats[k]->m != n || mats[k]->half)
       ExecError("contactKernelProducts: M, A, B must be square, of one size, stored in full (not sym)");
-    mats[k]->COO();
-    if (mats[k]->fortran) ExecError("contactKernelProducts: M, A, B must be indexed from 0");
+  if (samePattern(mats)) { mergeByCountingSort(mats, n); return 0; }
+  // the union of the three patterns, row by row, with the values of each matrix: the rows of
+  // the CSR forms (columns sorted within a row) merged three ways, in one pass over the entries
+  const int *rowStart[3], *col[3];
+  const double *val[3];
+  for (int k = 0; k < 3; k++) {
+    mats[k]->CSR();
+    rowStart[k] = mats[k]->p; col[k] = mats[k]->j; val[k] = mats[k]->aij;
+    for (int i = 0; i < n; i++)                        // CSR sorts (i, j): checked, not assumed
+      for (int e = rowStart[k][i] + 1; e < rowStart[k][i + 1]; e++)
+        if (col[k][e] <= col[k][e - 1]) ExecError("contactKernelProducts: FreeFEM's CSR form has unsorted rows");
   }
-  std::vector<int> start(n + 1, 0);
-  for (int k = 0; k < 3; k++)
-    for (size_t e = 0; e < mats[k]->nnz; e++) start[mats[k]->i[e] + 1]++;
-  for (int r = 0; r < n; r++) start[r + 1] += start[r];
-  std::vector<std::pair<int, int>> entry(start[n]);  // (matrix, entry), by row
-  std::vector<int> fill(start.begin(), start.end() - 1);
-  for (int k = 0; k < 3; k++)
-    for (size_t e = 0; e < mats[k]->nnz; e++) entry[fill[mats[k]->i[e]]++] = {k, (int)e};
-  auto column = [&](const std::pair<int, int> &x) { return mats[x.first]->j[x.second]; };
   P3.n = n;
   P3.start.assign(n + 1, 0);
   P3.column.clear(); P3.values.clear();
   P3.column.reserve(mats[0]->nnz); P3.values.reserve(3 * mats[0]->nnz);
-  for (int r = 0; r < n; r++) {
-    auto first = entry.begin() + start[r], last = entry.begin() + start[r + 1];
-    std::sort(first, last, [&](const std::pair<int, int> &a, const std::pair<int, int> &b) { return column(a) < column(b); });
-    for (auto x = first; x != last; ++x) {
-      if (x == first || column(*x) != P3.column.back()) {   // a new column; a repeated one adds up
-        P3.column.push_back(column(*x));
-        P3.values.insert(P3.values.end(), 3, 0.);
-      }
-      P3.values[P3.values.size() - 3 + x->first] += mats[x->first]->aij[x->second];
+  for (int i = 0; i < n; i++) {
+    int e[3] = {rowStart[0][i], rowStart[1][i], rowStart[2][i]};
+    while (true) {
+      int next = INT_MAX;
+      for (int k = 0; k < 3; k++) if (e[k] < rowStart[k][i + 1]) next = std::min(next, col[k][e[k]]);
+      if (next == INT_MAX) break;
+      double v3[3] = {0., 0., 0.};
+      for (int k = 0; k < 3; k++)                      // a repeated column adds up, as before
+        while (e[k] < rowStart[k][i + 1] && col[k][e[k]] == next) v3[k] += val[k][e[k]++];
+      P3.column.push_back(next);
+      P3.values.insert(P3.values.end(), v3, v3 + 3);
     }
-    P3.start[r + 1] = (int)P3.column.size();
+    P3.start[i + 1] = (int)P3.column.size();
   }
   return 0;
 }

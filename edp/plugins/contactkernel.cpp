@@ -50,6 +50,9 @@
 //   contactKernelRecord(real[int] v, real[int] u, real[int] Lambda, real[int] f, real[int] Mv,
 //       real[int] Bu, real[int] record)   the record of a step (see stepRecord); returns 1 if
 //       the energy balance is not finite
+//   contactKernelHistory(real[int] info, real[int] history, real[int] contactHistory)   the
+//       arrays into which each contactKernelRecord then also writes its step's row
+//       (writeHistoryRow), with the iterations and residual of the solvers' info
 //   contactKernelAppendNodes(string file, int n, real t, real[int] x, real[int] y, real[int,int] table)
 //       appends step n's rows of contact_nodes_history.txt (table: contactKernelNodal's), through a
 //       stream kept open until contactKernelCloseNodes() (1 if the file was not written whole)
@@ -62,6 +65,8 @@
 //   contactKernelFixedPoint(real[int] cFree, real[int] c, real[int] m, real[int] info)  the
 //       same for the fixed point (the variants of docs/stability.md, "Fixed point", change
 //       FP.window and FP.omega below)
+//   contactKernelNewtonStep(real[int] rhs, real[int] v, real[int] c, real[int] m, real[int] info)
+//   contactKernelFixedPointStep(the same)   Free, the solver, then Finish, in one call
 //   contactLawRelations(real[int] c, real[int] a, real[int] d, real[int] h, int[int] slot)
 //   contactNewtonStart(real[int] cFree, real[int] c, real[int] m, real[int] info)   the start of
 //       a Newton step (newtonStart): logs iteration 0; returns the natural residual at (c, m);
@@ -115,6 +120,7 @@ void dgemm_(const char *transa, const char *transb, const int *m, const int *n, 
 void dgetrf_(const int *m, const int *n, double *a, const int *lda, int *ipiv, int *info);
 void dgetrs_(const char *trans, const int *n, const int *nrhs, const double *a, const int *lda,
              const int *ipiv, double *b, const int *ldb, int *info);
+void dgetri_(const int *n, double *a, const int *lda, const int *ipiv, double *work, const int *lwork, int *info);
 }
 
 namespace {
@@ -547,12 +553,38 @@ void slotVelocities(const double *v, std::vector<double> &cv) {
 // ---------------------------------------------------------------- products with M, A, B
 // The three matrices of the energy terms share one sparsity pattern (P1 on one mesh): kept
 // as one CSR structure with three values per entry, so that M v, A v and B v cost one pass.
+// Where the pattern is made of full 2x2 blocks (the two components of a node, as [P1, P1]
+// numbers them), also as blocks: one column index and two contiguous x values for four
+// entries. Each row is summed over the same entries in the same order either way, so the
+// results are the same to the last bit; the blocks only take less time.
 struct Products {
   int n = 0;
   std::vector<int> start, column;
-  std::vector<double> values;       // 3 per entry: M, A, B
+  std::vector<double> values;       // 3 per entry: M, A, B (emptied when the blocks hold them)
+  bool blocked = false;
+  std::vector<int> blockStart, blockColumn;
+  std::vector<double> blockValues;  // 12 per block: rows 2I, 2I+1 by columns 2J, 2J+1, each M, A, B
 
-  void apply(const double *x, double *mx, double *ax, double *bx) const {
+  // row(i, (M x)_i, (A x)_i, (B x)_i) for i = 0 .. n-1, in that order
+  template <class Row> void forEachRow(const double *x, Row row) const {
+    if (blocked) {
+      const double *val = blockValues.data();
+      const int *col = blockColumn.data();
+      for (int I = 0; I < n / 2; I++) {
+        double m0 = 0, a0 = 0, b0 = 0, m1 = 0, a1 = 0, b1 = 0;
+        for (int e = blockStart[I]; e < blockStart[I + 1]; e++) {
+          const double *w = val + 12 * (size_t)e;
+          const double x0 = x[2 * col[e]], x1 = x[2 * col[e] + 1];
+          m0 += w[0] * x0; a0 += w[1] * x0; b0 += w[2] * x0;
+          m0 += w[3] * x1; a0 += w[4] * x1; b0 += w[5] * x1;
+          m1 += w[6] * x0; a1 += w[7] * x0; b1 += w[8] * x0;
+          m1 += w[9] * x1; a1 += w[10] * x1; b1 += w[11] * x1;
+        }
+        row(2 * I, m0, a0, b0);
+        row(2 * I + 1, m1, a1, b1);
+      }
+      return;
+    }
     const double *val = values.data();
     const int *col = column.data();
     for (int i = 0; i < n; i++) {
@@ -561,8 +593,45 @@ struct Products {
         const double xj = x[col[e]];
         m += val[3 * e] * xj; a += val[3 * e + 1] * xj; b += val[3 * e + 2] * xj;
       }
-      mx[i] = m; ax[i] = a; bx[i] = b;
+      row(i, m, a, b);
     }
+  }
+  void apply(const double *x, double *mx, double *ax, double *bx) const {
+    forEachRow(x, [&](int i, double m, double a, double b) { mx[i] = m; ax[i] = a; bx[i] = b; });
+  }
+  // the blocks, when rows 2I and 2I+1 hold the columns 2J, 2J+1 of the same J's (sorted)
+  void makeBlocks() {
+    blocked = false;
+    blockStart.assign(1, 0); blockColumn.clear(); blockValues.clear();
+    auto fill = [&]() {
+      if (n % 2) return false;
+      for (int I = 0; I < n / 2; I++) {
+        const int r0 = start[2 * I], r1 = start[2 * I + 1], length = r1 - r0;
+        if (length % 2 || start[2 * I + 2] - r1 != length) return false;
+        for (int e = 0; e < length; e += 2) {
+          const int c = column[r0 + e];
+          if (c % 2 || column[r0 + e + 1] != c + 1 || column[r1 + e] != c || column[r1 + e + 1] != c + 1) return false;
+          blockColumn.push_back(c / 2);
+          for (int r : {r0, r1})
+            for (int k = 0; k < 2; k++)
+              for (int q = 0; q < 3; q++) blockValues.push_back(values[3 * (size_t)(r + e + k) + q]);
+        }
+        blockStart.push_back((int)blockColumn.size());
+      }
+      return true;
+    };
+    if (!fill()) {
+      std::vector<int>(1, 0).swap(blockStart); std::vector<int>().swap(blockColumn); std::vector<double>().swap(blockValues);
+      return;
+    }
+    blocked = true;
+    std::vector<double>().swap(values);            // the blocks hold them now (entry() reads them)
+  }
+  // M, A, B of entry e (of row i) of the CSR pattern
+  const double *entry(int i, int e) const {
+    if (!blocked) return values.data() + 3 * (size_t)e;
+    const int p = e - start[i];
+    return blockValues.data() + 12 * (size_t)(blockStart[i / 2] + p / 2) + 6 * (i % 2) + 3 * (p % 2);
   }
 };
 Products P3;
@@ -615,7 +684,7 @@ long products(Matrice_Creuse<double> *const &pM, Matrice_Creuse<double> *const &
   for (int k = 0; k < 3; k++)
     if (mats[k]->n != n || mats[k]->m != n || mats[k]->half)
       ExecError("contactKernelProducts: M, A, B must be square, of one size, stored in full (not sym)");
-  if (samePattern(mats)) { mergeByCountingSort(mats, n); return 0; }
+  if (samePattern(mats)) { mergeByCountingSort(mats, n); P3.makeBlocks(); return 0; }
   // the union of the three patterns, row by row, with the values of each matrix: the rows of
   // the CSR forms (columns sorted within a row) merged three ways, in one pass over the entries
   const int *rowStart[3], *col[3];
@@ -645,6 +714,7 @@ long products(Matrice_Creuse<double> *const &pM, Matrice_Creuse<double> *const &
     }
     P3.start[i + 1] = (int)P3.column.size();
   }
+  P3.makeBlocks();
   return 0;
 }
 
@@ -676,7 +746,7 @@ cholmod_sparse *upperFromProducts() {
     for (int e = P3.start[i]; e < P3.start[i + 1]; e++) {
       const int j = P3.column[e];
       if (j < i) continue;
-      const double *v = P3.values.data() + 3 * (size_t)e;
+      const double *v = P3.entry(i, e);
       Ai[fill[j]] = i;
       Ax[fill[j]++] = SM.cm * v[0] + v[1] * SM.ca + SM.cb * v[2];
     }
@@ -821,6 +891,7 @@ struct Record {
   std::vector<double> vOld, Mv, Av, Bv;  // v_{n-1}; workspace
   double energyOld = 0;                  // kinetic + elastic of the previous step
   long generation = -1;                  // the factor (F.generation) the record started with
+  long step = 0;                         // the steps recorded into the history arrays
 };
 Record RC;
 
@@ -843,6 +914,7 @@ long recordStart(KN<double> *const &pv0, KN<double> *const &pu0, KN<double> *con
   for (int i = 0; i < n; i++) { Bu[i] = RC.Bv[i]; elastic += 0.5 * u[i] * RC.Bv[i]; }
   RC.energyOld = kinetic + elastic;
   RC.generation = F.generation;
+  RC.step = 0;
   return 0;
 }
 
@@ -854,6 +926,7 @@ long recordStart(KN<double> *const &pv0, KN<double> *const &pu0, KN<double> *con
 // and contact_history.txt; 1e300 for an x_B or x_C that does not exist). The discrete energy
 // balance (docs/design.md, section "Energy identity"), test function w = v_n:
 //   E_n - E_{n-1} + 1/2 m(v_n - v_{n-1}) + k^2/2 b(v_n) + k a(v_n) + k (C'W Lam)'v_n = k f_n'v_n
+void writeHistoryRow(const KN<double> &rec);
 long stepRecord(KN<double> *const &pv, KN<double> *const &pu, KN<double> *const &pLam, KN<double> *const &pf,
                 KN<double> *const &pMv, KN<double> *const &pBu, KN<double> *const &prec) {
   if (RC.generation != F.generation || !F.L) ExecError("contactKernelRecord: call contactKernelRecordStart (after the last contactKernelFactorize) first");
@@ -867,16 +940,15 @@ long stepRecord(KN<double> *const &pv, KN<double> *const &pu, KN<double> *const 
   const char *strided = "contactKernelRecord: arrays must be contiguous";
   const double *pv0 = contiguous(v, strided), *pu0 = contiguous(u, strided), *pf0 = contiguous(f, strided);
   double *pMv0 = contiguous(Mv, strided), *pBu0 = contiguous(Bu, strided);
-  std::vector<double> &m = RC.Mv, &a = RC.Av, &b = RC.Bv, &vOld = RC.vOld;
-  P3.apply(pv0, m.data(), a.data(), b.data());
+  double *vOld = RC.vOld.data();
   double vMv = 0, vAv = 0, vBv = 0, dvMdv = 0, uBu = 0, fv = 0;
-  for (int i = 0; i < n; i++) {
-    const double vi = pv0[i], bu = pBu0[i] + k * b[i];
-    vMv += vi * m[i]; vAv += vi * a[i]; vBv += vi * b[i]; dvMdv += (vi - vOld[i]) * (m[i] - pMv0[i]);
+  P3.forEachRow(pv0, [&](int i, double m, double a, double b) {   // each row once its products are known
+    const double vi = pv0[i], bu = pBu0[i] + k * b;
+    vMv += vi * m; vAv += vi * a; vBv += vi * b; dvMdv += (vi - vOld[i]) * (m - pMv0[i]);
     uBu += pu0[i] * bu;
     fv += pf0[i] * vi;
-    pMv0[i] = m[i]; pBu0[i] = bu; vOld[i] = vi;
-  }
+    pMv0[i] = m; pBu0[i] = bu; vOld[i] = vi;
+  });
   std::vector<double> cv;
   slotVelocities(pv0, cv);
   double contact = 0;
@@ -907,7 +979,36 @@ long stepRecord(KN<double> *const &pv, KN<double> *const &pu, KN<double> *const 
   rec[9] = normalForce; rec[10] = tangentialForce;
   for (int z = 0; z < 5; z++) rec[11 + z] = zones[z];
   rec[16] = xB; rec[17] = xC;
+  writeHistoryRow(rec);
   return std::isfinite(balance) ? 0 : 1;
+}
+
+// The history arrays the record writes into (contactKernelHistory): row n of history
+// (12 columns: t, iterations, residual, then the record's 0..8) and of contactHistory (10: t,
+// then the record's 9..17) at the n-th contactKernelRecord since contactKernelRecordStart
+// (t = n k), the iterations and residual from info (the solvers' [residual, iterations, ...]).
+// Arrays of the script, kept by address: sized before, not resized while the record runs.
+// One call a step instead of a line per column (each line costs the interpreter about 1 us).
+struct HistoryArrays { KN<double> *info = nullptr, *history = nullptr, *contactHistory = nullptr; };
+HistoryArrays HA;
+
+long historyArrays(KN<double> *const &pinfo, KN<double> *const &phistory, KN<double> *const &pcontactHistory) {
+  HA.info = pinfo; HA.history = phistory; HA.contactHistory = pcontactHistory;
+  return 0;
+}
+
+void writeHistoryRow(const KN<double> &rec) {
+  if (!HA.history) return;
+  KN<double> &info = *HA.info, &history = *HA.history, &contactHistory = *HA.contactHistory;
+  const long n = ++RC.step;
+  if (info.N() < 2 || history.N() < 12 * n || contactHistory.N() < 10 * n)
+    ExecError("contactKernelRecord: the history arrays hold fewer rows than the steps recorded");
+  const double t = n * SP.dt;
+  const long h = 12 * (n - 1), c = 10 * (n - 1);
+  history[h] = t; history[h + 1] = info[1]; history[h + 2] = info[0];
+  for (int k = 0; k < 9; k++) history[h + 3 + k] = rec[k];
+  contactHistory[c] = t;
+  for (int k = 0; k < 9; k++) contactHistory[c + 1 + k] = rec[9 + k];
 }
 
 // ---------------------------------------------------------------- Newton
@@ -916,10 +1017,13 @@ long stepRecord(KN<double> *const &pv, KN<double> *const &pu, KN<double> *const 
 // baseA, baseD, baseS) is LU-factorized; a matrix whose relations differ from N0's in a few
 // rows R only is solved with N0's factors and a rank-|R| (Woodbury) correction:
 //   N = N0 + E_R Delta,  N^-1 b = x0 - Y K^-1 Delta x0,  x0 = N0^-1 b,  Y = N0^-1 E_R,  K = I + Delta Y.
-// N0 is re-factorized when |R| exceeds nc/8 (the correction would cost more than a quarter
-// of a factorization), or when a corrected solve fails its residual check.
+// N0 is factorized again when |R| exceeds nc/3, or when a corrected solve fails its residual
+// check. Y is read from N0^-1, computed from the factors when a first correction needs it
+// (twice the cost of the factorization): a correction then costs r^2 nc instead of the
+// r nc^2 of r solves, so corrections are cheap up to a larger r.
 struct Newton {
-  std::vector<double> N0, Y, Delta, K;
+  std::vector<double> N0, N0inv, Y, Delta, K;
+  bool inverted = false;
   std::vector<int> pivots, Kpivots, changed, baseS, preparedS;
   std::vector<double> baseA, baseD, preparedA, preparedD;
   bool haveBase = false;
@@ -1004,7 +1108,10 @@ double fixedPointIteration(const double *cFree, double *c, double *m, double &me
 }
 
 
-// LU of N0 = the Newton matrix of the current relations
+// The LU factors of N0, the Newton matrix of the current relations (Q.N0), and its inverse
+// (Q.N0inv) computed from them: a solve uses the factors (backward stable: the inverse alone
+// loses digits on the badly conditioned matrices of a literal penalty), a correction reads
+// the columns N0^-1 E_R from the inverse instead of solving for them
 bool newtonFactorBase() {
   const int nc = F.nc;
   Q.N0.assign((size_t)nc * nc, 0.);
@@ -1014,6 +1121,7 @@ bool newtonFactorBase() {
   Q.pivots.resize(nc);
   int info = 0;
   dgetrf_(&nc, &nc, Q.N0.data(), &nc, Q.pivots.data(), &info);
+  Q.inverted = false;
   Q.factorizations++;
   Q.haveBase = info == 0;
   Q.generation = F.generation;
@@ -1024,11 +1132,28 @@ bool newtonFactorBase() {
   return Q.haveBase;
 }
 
+// N0^-1 from the factors, the first time a correction needs it
+bool newtonInverse() {
+  if (Q.inverted) return true;
+  const int nc = F.nc;
+  Q.N0inv = Q.N0;
+  int info = 0, lwork = -1;
+  double query = 0;
+  dgetri_(&nc, Q.N0inv.data(), &nc, Q.pivots.data(), &query, &lwork, &info);
+  lwork = std::max(nc, (int)query);
+  std::vector<double> work(lwork);
+  if (info == 0) dgetri_(&nc, Q.N0inv.data(), &nc, Q.pivots.data(), work.data(), &lwork, &info);
+  Q.inverted = info == 0;
+  return Q.inverted;
+}
+
 bool sameAsPrepared() {
   return Q.haveBase && Q.generation == F.generation && L.a == Q.preparedA && L.d == Q.preparedD && L.slot == Q.preparedS;
 }
 
-// Prepare the solves with the Newton matrix of the current relations.
+// Prepare the solves with the Newton matrix of the current relations. A correction of rank
+// r costs about r^2 nc + r^3/3 multiply-adds, a new inverse about nc^3: corrections up to
+// r = nc/3.
 bool newtonPrepare() {
   const int nc = F.nc;
   if (!Q.haveBase || Q.generation != F.generation) return newtonFactorBase();
@@ -1036,7 +1161,7 @@ bool newtonPrepare() {
   for (int j = 0; j < nc; j++)
     if (L.a[j] != Q.baseA[j] || L.d[j] != Q.baseD[j] || L.slot[j] != Q.baseS[j]) R.push_back(j);
   const int r = R.size();
-  if (r > nc / 8) return newtonFactorBase();
+  if (r > nc / 3) return newtonFactorBase();
   Q.changed = R;
   Q.preparedA = L.a; Q.preparedD = L.d; Q.preparedS = L.slot;
   if (r == 0) return true;
@@ -1048,33 +1173,34 @@ bool newtonPrepare() {
       Q.Delta[k + (size_t)i * r] = -L.a[j] * F.Dw[L.slot[j] + (size_t)i * nc] + Q.baseA[j] * F.Dw[Q.baseS[j] + (size_t)i * nc];
     Q.Delta[k + (size_t)j * r] += L.d[j] - Q.baseD[j];
   }
-  // Y = N0^-1 E_R, K = I + Delta Y
-  Q.Y.assign((size_t)nc * r, 0.);
-  for (int k = 0; k < r; k++) Q.Y[R[k] + (size_t)k * nc] = 1.;
-  int info = 0;
-  dgetrs_("N", &nc, &r, Q.N0.data(), &nc, Q.pivots.data(), Q.Y.data(), &nc, &info);
+  // Y = N0^-1 E_R (columns R of the inverse), K = I + Delta Y
+  if (!newtonInverse()) return newtonFactorBase();
+  Q.Y.resize((size_t)nc * r);
+  for (int k = 0; k < r; k++) std::copy(Q.N0inv.begin() + (size_t)R[k] * nc, Q.N0inv.begin() + (size_t)(R[k] + 1) * nc, Q.Y.begin() + (size_t)k * nc);
   Q.K.assign((size_t)r * r, 0.);
   for (int k = 0; k < r; k++) Q.K[k + (size_t)k * r] = 1.;
   const double one = 1.;
   dgemm_("N", "N", &r, &r, &nc, &one, Q.Delta.data(), &r, Q.Y.data(), &nc, &one, Q.K.data(), &r);
   Q.Kpivots.resize(r);
+  int info = 0;
   dgetrf_(&r, &r, Q.K.data(), &r, Q.Kpivots.data(), &info);
   if (info != 0) return newtonFactorBase();
   Q.corrections++;
   return true;
 }
 
-// x = N^-1 b with N0's factors and the correction. The corrected solve is checked by its
-// residual, row by row, against the size of the row's terms: above 1e-13, one step of
-// iterative refinement (the correction loses digits on badly conditioned matrices, at small r);
-// still above 1e-11, N0 is factorized again.
-void correctedSolve(double *x) {
+// x = N^-1 b (x and b distinct) with N0's factors and the correction. The corrected solve is checked
+// by its residual, row by row, against the size of the row's terms: above 1e-13, one step of
+// iterative refinement (the correction loses digits on badly conditioned matrices, at small
+// r); still above 1e-11, N0 is factorized again.
+void correctedSolve(const double *b, double *x) {
   const int nc = F.nc, one = 1, inc = 1, r = Q.changed.size();
+  const double plus = 1., minus = -1., zero = 0.;
   int info = 0;
+  std::copy(b, b + nc, x);
   dgetrs_("N", &nc, &one, Q.N0.data(), &nc, Q.pivots.data(), x, &nc, &info);
   if (r == 0) return;
   std::vector<double> t(r, 0.);
-  const double plus = 1., minus = -1., zero = 0.;
   dgemv_("N", &r, &nc, &plus, Q.Delta.data(), &r, x, &inc, &zero, t.data(), &inc);
   dgetrs_("N", &r, &one, Q.K.data(), &r, Q.Kpivots.data(), t.data(), &r, &info);
   dgemv_("N", &nc, &r, &minus, Q.Y.data(), &nc, t.data(), &inc, &plus, x, &inc);
@@ -1096,28 +1222,20 @@ double rowResidual(const double *b, const double *x, double *res) {
   return worst;
 }
 bool newtonSolve(const double *b, double *x) {
-  const int nc = F.nc, one = 1;
-  std::copy(b, b + nc, x);
-  if (Q.changed.empty()) {
-    int info = 0;
-    dgetrs_("N", &nc, &one, Q.N0.data(), &nc, Q.pivots.data(), x, &nc, &info);
-    return info == 0;
-  }
-  correctedSolve(x);
-  std::vector<double> res(nc);
+  const int nc = F.nc;
+  correctedSolve(b, x);
+  if (Q.changed.empty()) return true;
+  std::vector<double> res(nc), dx(nc);
   double worst = rowResidual(b, x, res.data());
   if (worst > 1e-13) {                               // refine once
-    correctedSolve(res.data());
-    for (int j = 0; j < nc; j++) x[j] += res[j];
+    correctedSolve(res.data(), dx.data());
+    for (int j = 0; j < nc; j++) x[j] += dx[j];
     Q.refinements++;
     worst = rowResidual(b, x, res.data());
   }
   if (!(worst <= 1e-11)) {
     if (!newtonFactorBase()) return false;
-    std::copy(b, b + nc, x);
-    int info = 0;
-    dgetrs_("N", &nc, &one, Q.N0.data(), &nc, Q.pivots.data(), x, &nc, &info);
-    return info == 0;
+    correctedSolve(b, x);
   }
   return true;
 }
@@ -1434,6 +1552,20 @@ long fixedPoint(KN<double> *const &pcFree, KN<double> *const &pc, KN<double> *co
   return done ? it : -1;
 }
 
+// A whole contact solve in one call: cFree = C S^-1 rhs (contactKernelFree), the solver,
+// then v = S^-1 (rhs - C'W m) (contactKernelFinish). The same three calls the script makes
+// for its own solvers, without the interpreter's cost of three.
+template <long (*solver)(KN<double> *const &, KN<double> *const &, KN<double> *const &, KN<double> *const &)>
+long wholeStep(KN<double> *const &prhs, KN<double> *const &pv, KN<double> *const &pc, KN<double> *const &pm,
+               KN<double> *const &pinfo) {
+  KN<double> cFree(F.nc);
+  KN<double> *pFree = &cFree;
+  freeVelocity(prhs, pFree);
+  const long it = solver(pFree, pc, pm, pinfo);
+  finish(pm, pv);
+  return it;
+}
+
 // ---------------------------------------------------------------- the law for the script solvers
 long lawRelations(KN<double> *const &pc, KN<double> *const &pa, KN<double> *const &pd, KN<double> *const &ph,
                   KN<long> *const &pslot) {
@@ -1553,12 +1685,15 @@ static void Load_Init() {
   Global.Add("contactKernelMultiply", "(", new OneOperator4_<long, KN<double> *, KN<double> *, KN<double> *, KN<double> *>(multiply));
   Global.Add("contactKernelRecordStart", "(", new OneOperator4_<long, KN<double> *, KN<double> *, KN<double> *, KN<double> *>(recordStart));
   Global.Add("contactKernelRecord", "(", new OneOperator7_<long, KN<double> *, KN<double> *, KN<double> *, KN<double> *, KN<double> *, KN<double> *, KN<double> *>(stepRecord));
+  Global.Add("contactKernelHistory", "(", new OneOperator3_<long, KN<double> *, KN<double> *, KN<double> *>(historyArrays));
   Global.Add("contactKernelNodal", "(", new OneOperator3_<long, KN<double> *, KN<double> *, KNM<double> *>(nodal));
   Global.Add("contactKernelCloseNodes", "(", new OneOperator0<long>(closeNodes));
   Global.Add("contactKernelAppendNodes", "(",
              new OneOperator6_<long, string *, long, double, KN<double> *, KN<double> *, KNM<double> *>(appendNodes));
   Global.Add("contactKernelNewton", "(", new OneOperator4_<long, KN<double> *, KN<double> *, KN<double> *, KN<double> *>(newton));
   Global.Add("contactKernelFixedPoint", "(", new OneOperator4_<long, KN<double> *, KN<double> *, KN<double> *, KN<double> *>(fixedPoint));
+  Global.Add("contactKernelNewtonStep", "(", new OneOperator5_<long, KN<double> *, KN<double> *, KN<double> *, KN<double> *, KN<double> *>(wholeStep<newton>));
+  Global.Add("contactKernelFixedPointStep", "(", new OneOperator5_<long, KN<double> *, KN<double> *, KN<double> *, KN<double> *, KN<double> *>(wholeStep<fixedPoint>));
   Global.Add("contactLawRelations", "(", new OneOperator5_<long, KN<double> *, KN<double> *, KN<double> *, KN<double> *, KN<long> *>(lawRelations));
   Global.Add("contactNewtonLog", "(", new OneOperator4_<long, long, double, long, double>(newtonLog));
   Global.Add("contactNewtonGuard", "(", new OneOperator3_<long, long, KN<double> *, KN<double> *>(newtonGuard));

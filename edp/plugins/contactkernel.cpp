@@ -1024,6 +1024,8 @@ void writeHistoryRow(const KN<double> &rec) {
 struct Newton {
   std::vector<double> N0, N0inv, Y, Delta, K;
   bool inverted = false;
+  std::vector<double> Dx;              // Dw x for the last x newtonSolve checked (haveDx)
+  bool haveDx = false;
   std::vector<int> pivots, Kpivots, changed, baseS, preparedS;
   std::vector<double> baseA, baseD, preparedA, preparedD;
   bool haveBase = false;
@@ -1205,12 +1207,15 @@ void correctedSolve(const double *b, double *x) {
   dgetrs_("N", &r, &one, Q.K.data(), &r, Q.Kpivots.data(), t.data(), &r, &info);
   dgemv_("N", &nc, &r, &minus, Q.Y.data(), &nc, t.data(), &inc, &plus, x, &inc);
 }
-// the largest row residual of N x = b relative to the row's terms; the residuals in res
+// the largest row residual of N x = b relative to the row's terms; the residuals in res;
+// Dw x in Q.Dx (the safeguard's velocities at x reuse it)
 double rowResidual(const double *b, const double *x, double *res) {
   const int nc = F.nc, inc = 1;
-  std::vector<double> Dx(nc, 0.);
+  Q.Dx.assign(nc, 0.);
+  std::vector<double> &Dx = Q.Dx;
   const double plus = 1., zero = 0.;
   dgemv_("N", &nc, &nc, &plus, F.Dw.data(), &nc, x, &inc, &zero, Dx.data(), &inc);
+  Q.haveDx = true;
   double worst = 0;
   for (int j = 0; j < nc; j++) {
     const double a = -L.a[j] * Dx[L.slot[j]], d = L.d[j] * x[j];
@@ -1223,6 +1228,7 @@ double rowResidual(const double *b, const double *x, double *res) {
 }
 bool newtonSolve(const double *b, double *x) {
   const int nc = F.nc;
+  Q.haveDx = false;
   correctedSolve(b, x);
   if (Q.changed.empty()) return true;
   std::vector<double> res(nc), dx(nc);
@@ -1236,6 +1242,7 @@ bool newtonSolve(const double *b, double *x) {
   if (!(worst <= 1e-11)) {
     if (!newtonFactorBase()) return false;
     correctedSolve(b, x);
+    Q.haveDx = false;
   }
   return true;
 }
@@ -1324,11 +1331,12 @@ void logIteration(int it, double residual, int outcome = 0, double step = 1);
 // residual and merit (referenceEvaluate) in residual and merit (on entry: the previous
 // iterate's merit), the step length in step (0 for a fixed-point iteration).
 int safeguardStep(const double *cFree, const double *previous, const double *newtonM, double &merit,
-                  double *c, double *m, double &residual, double &step) {
+                  double *c, double *m, double &residual, double &step, const double *DwNewtonM = nullptr) {
   const int nc = F.nc;
   const double before = merit;
   std::copy(newtonM, newtonM + nc, m);
-  velocities(cFree, m, c);
+  if (DwNewtonM) for (int j = 0; j < nc; j++) c[j] = cFree[j] - DwNewtonM[j];   // Dw m known already
+  else velocities(cFree, m, c);
   double trial = 0;
   residual = referenceEvaluate(c, m, trial);
   step = 1;
@@ -1435,7 +1443,8 @@ long newton(KN<double> *const &pcFree, KN<double> *const &pc, KN<double> *const 
     previous = m;
     if (!newtonSolve(rhs.data(), newtonM.data())) { residual = NAN; break; }
     double step = 1;
-    const int outcome = safeguardStep(cFree.data(), previous.data(), newtonM.data(), merit, c.data(), m.data(), residual, step);
+    const int outcome = safeguardStep(cFree.data(), previous.data(), newtonM.data(), merit, c.data(), m.data(), residual, step,
+                                      Q.haveDx ? Q.Dx.data() : nullptr);
     it++;
     logIteration(it, residual, outcome, step);
     done = stepConverged(residual, c.data(), unresolved);

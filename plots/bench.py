@@ -4,7 +4,8 @@
 Reads the run folders DIR/runs/NAME that tests/bench.sh makes (summary.txt of edp/solve.edp,
 NAME.time with the wall seconds and peak memory of the process, NAME.error and
 NAME.solver_error from edp/compare.edp) and writes into DIR
-  steps.txt, iterations.txt, work_precision.txt   (plain text, '#' header naming the columns)
+  steps.txt, steps_adapted.txt, iterations.txt, work_precision.txt   (plain text, '#' header
+  naming the columns)
   bench_cost_per_step.png, bench_work_precision.png, bench_iterations.png
 Usage: bench.py --bench DIR --reference RUN_DIR
 """
@@ -79,10 +80,39 @@ def steps_table(bench):
                "iterations_max peak_memory_MB").split()
     suite.write_table(os.path.join(bench, "steps.txt"),
                       ["cost per time step: time_step_median (CPU s) against the floor time_backsubstitution (one",
-                       "back-substitution with the kernel's Cholesky factor of S, median of 21, same run) and against",
+                       "back-substitution with the kernel's Cholesky factor of S, measured during the loop, same run) and against",
                        "time_backsubstitution_umfpack (one back-substitution with FreeFEM's default UMFPACK, median of 5,",
                        "same run; nan when not measured); setup times and wall in wall seconds; peak memory of the",
                        "whole FreeFEM process"], columns, rows)
+    return columns, rows
+
+
+def steps_adapted_table(bench):
+    """Step / floor on each adapted mesh, from its repeated runs (stepsadapted-RUN-I)."""
+    groups = {}
+    for name in all_names(bench, "stepsadapted-"):
+        m = re.match(r"stepsadapted-(.*)-(\d+)$", name)
+        if m:
+            groups.setdefault(m.group(1), []).append(run_record(bench, name))
+    rows = []
+    for mesh, records in sorted(groups.items()):
+        ok = [r for r in records if r["converged"]]
+        ratios = sorted(value(r, "time_step_median") / value(r, "time_backsubstitution") for r in ok)
+        before = sorted(value(r, "time_step_median") / value(r, "time_backsubstitution_before") for r in ok)
+        if not ratios:
+            rows.append([mesh, -1, -1, 0, NAN, NAN, NAN, NAN, NAN])
+            continue
+        median = lambda xs: xs[len(xs) // 2] if len(xs) % 2 else 0.5 * (xs[len(xs) // 2 - 1] + xs[len(xs) // 2])
+        rows.append([mesh, int(value(ok[0], "vertices")), int(value(ok[0], "contact_slots")), len(ratios),
+                     median([value(r, "time_backsubstitution") for r in ok]), median(ratios), ratios[0], ratios[-1],
+                     median(before)])
+    columns = ("mesh vertices contact_slots runs time_backsubstitution step_over_floor step_over_floor_min "
+               "step_over_floor_max step_over_floor_before").split()
+    suite.write_table(os.path.join(bench, "steps_adapted.txt"),
+                      ["cost per time step on the adapted meshes of work_precision.txt, each run again with -mesh",
+                       "(the mesh of wp-RUN): the median over the runs of time_step_median / time_backsubstitution (the",
+                       "floor measured during the loop, same run), its smallest and largest, and the median against",
+                       "time_backsubstitution_before (the floor measured back to back before the loop)"], columns, rows)
     return columns, rows
 
 
@@ -430,6 +460,12 @@ def main():
               f"{r[c['iterations_mean']]:7.2f} "
               f"{setup:8.2f} {r[c['peak_memory_MB']]:6.0f}")
     chart_cost_per_step(args.bench, columns, rows)
+    acolumns, arows = steps_adapted_table(args.bench)
+    a = {name: i for i, name in enumerate(acolumns)}
+    for r in arows:
+        print(f"  step / floor on {r[0]:20s} {r[a['vertices']]:7d} vertices, {r[a['contact_slots']]:4d} contact unknowns: "
+              f"median {r[a['step_over_floor']]:.2f} ({r[a['step_over_floor_min']]:.2f}-{r[a['step_over_floor_max']]:.2f}, "
+              f"{r[a['runs']]} runs); against the floor before the loop {r[a['step_over_floor_before']]:.2f}")
     icolumns, irows = iterations_table(args.bench)
     chart_iterations(args.bench, icolumns, irows)
     wcolumns, wrows = work_precision_table(args.bench, args.reference)

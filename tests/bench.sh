@@ -7,6 +7,7 @@
 #   runs/NAME/          one folder per run (the outputs of edp/solve.edp), NAME.time
 #                       (wall seconds and peak memory of the whole process)
 #   steps.txt           cost per step and setup costs against the mesh, per solver mode
+#   steps_adapted.txt   step / floor on the adapted meshes of work_precision.txt (median of repeats)
 #   iterations.txt      iterations and time per step against the augmentation r, Newton and
 #                       fixed point, on 66x33 and 132x66
 #   work_precision.txt  error against wall time for uniform and adapted meshes, time steps,
@@ -94,6 +95,14 @@ errs1=(4e-3 2e-3 1e-3 5e-4 2.5e-4); errs2=(1e-3 5e-4 2.5e-4)
 [ "$quick" = 1 ] && { errs1=(2e-3 1e-3 5e-4); errs2=(1e-3); }
 for e in "${errs1[@]}"; do run "wp-adapt1-$e" -nx 33 -ny 16 -adapt 1 -adapt_err "$e"; done
 for e in "${errs2[@]}"; do run "wp-adapt2-$e" -nx 33 -ny 16 -adapt 2 -adapt_err "$e"; done
+# step / floor on the adapted meshes: each mesh run again with -mesh (no pilot), several times,
+# the median ratio per mesh in steps_adapted.txt (the ratios of small meshes move with the
+# machine from run to run)
+repeats=5; [ "$quick" = 1 ] && repeats=3
+for dir in "$out"/runs/wp-adapt*; do
+  [ -f "$dir/mesh.msh" ] || continue
+  for ((i = 1; i <= repeats; i++)); do run "stepsadapted-$(basename "$dir")-$i" -mesh "$dir/mesh.msh"; done
+done
 run "timeref-66x33-dt0.00125" -dt 0.00125
 for dt in 0.04 0.02 0.01 0.005 0.0025; do
   run "wp-dt-$dt" -dt "$dt"

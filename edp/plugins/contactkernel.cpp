@@ -605,19 +605,30 @@ struct Products {
     blockStart.assign(1, 0); blockColumn.clear(); blockValues.clear();
     auto fill = [&]() {
       if (n % 2) return false;
-      for (int I = 0; I < n / 2; I++) {
+      for (int I = 0; I < n / 2; I++) {              // the pattern first: no copy if it is not blocked
         const int r0 = start[2 * I], r1 = start[2 * I + 1], length = r1 - r0;
         if (length % 2 || start[2 * I + 2] - r1 != length) return false;
         for (int e = 0; e < length; e += 2) {
           const int c = column[r0 + e];
           if (c % 2 || column[r0 + e + 1] != c + 1 || column[r1 + e] != c || column[r1 + e + 1] != c + 1) return false;
-          blockColumn.push_back(c / 2);
-          for (int r : {r0, r1})
-            for (int k = 0; k < 2; k++)
-              for (int q = 0; q < 3; q++) blockValues.push_back(values[3 * (size_t)(r + e + k) + q]);
         }
-        blockStart.push_back((int)blockColumn.size());
       }
+      const size_t blocks = column.size() / 4;
+      blockStart.resize(n / 2 + 1);
+      blockColumn.resize(blocks);
+      blockValues.resize(12 * blocks);
+      size_t b = 0;
+      for (int I = 0; I < n / 2; I++) {
+        const int r0 = start[2 * I], r1 = start[2 * I + 1], length = r1 - r0;
+        blockStart[I] = (int)b;
+        for (int e = 0; e < length; e += 2, b++) {
+          blockColumn[b] = column[r0 + e] / 2;
+          double *w = blockValues.data() + 12 * b;
+          std::copy(values.begin() + 3 * (size_t)(r0 + e), values.begin() + 3 * (size_t)(r0 + e + 2), w);
+          std::copy(values.begin() + 3 * (size_t)(r1 + e), values.begin() + 3 * (size_t)(r1 + e + 2), w + 6);
+        }
+      }
+      blockStart[n / 2] = (int)b;
       return true;
     };
     if (!fill()) {

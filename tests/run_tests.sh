@@ -623,6 +623,8 @@ solve -scene "$work/adapt/scene.scene" -mesh "$work/adapt/mesh.msh" -out "$work/
 for f in contact.txt fields.txt history.txt contact_history.txt; do
   cmp -s <(grep -v '^#' "$work/adapt/$f") <(grep -v '^#' "$work/adapt3/$f") || { echo "$f differs when repeated from OUT/mesh.msh" >> "$diag"; status=1; }
 done
+grep -q "^mesh_source $work/adapt/mesh.msh (made by the run in $work/adapt/: adaptmesh, 2 rounds at adapt_err 1e-3, from gmsh " "$work/adapt3/summary.txt" \
+  || { echo "the repeated run's mesh_source does not say how the mesh was made:"; grep mesh_source "$work/adapt3/summary.txt"; status=1; } >> "$diag"
 rm -rf "$work/adapt4"
 solve -nx 16 -ny 8 -adapt 1 -adapt_err 0.0005 -adapt_vertices 500 -out "$work/adapt4" > "$work/adapt4.err" 2>&1; code=$?
 { [ "$code" = 2 ] && grep -Eq "(option -adapt_err = 0.0005 would make a mesh of about [0-9]* vertices in round 1|the mesh of adaptation round 1 has [0-9]* vertices), more than -adapt_vertices 500" "$work/adapt4.err" \
@@ -632,7 +634,7 @@ solve -nx 16 -ny 8 -adapt 1 -maxit 1 -out "$work/adapt4" > "$work/adapt4.err" 2>
   && [ ! -e "$work/adapt4" ]; } || { echo "pilot failure: exit $code"; cat "$work/adapt4.err"; status=1; } >> "$diag"
 # fewer steps than the five snapshots of a pilot: a frame a step, the last standing for the rest
 solve -nx 16 -ny 8 -adapt 1 -T 0.02 -out "$work/adapt5" >> "$diag" 2>&1 || { echo "-adapt with 2 steps failed" >> "$diag"; status=1; }
-report $status "-adapt 2: the paper's zones in order, x_B and x_C within 0.02 m, physics checks; the same mesh byte for byte when made again; repeated from OUT/mesh.msh; a vertex budget or a failed pilot stops the run (exit 2, 4) with no output; fewer steps than snapshots" "$diag"
+report $status "-adapt 2: the paper's zones in order, x_B and x_C within 0.02 m, physics checks; the same mesh byte for byte when made again; repeated from OUT/mesh.msh, whose mesh_source still says how it was made; a vertex budget or a failed pilot stops the run (exit 2, 4) with no output; fewer steps than snapshots" "$diag"
 
 # -snapshots N: x, y, u, v at every vertex at the first step at or after j T/N; the last frame
 # is fields.txt's u and v; N above the steps gives every step

@@ -898,6 +898,9 @@ long appendNodes(string *const &path, const long &n, const double &t, KN<double>
   return f ? 0 : 1;
 }
 
+struct HistoryArrays { KN<double> *info = nullptr, *history = nullptr, *contactHistory = nullptr; };
+HistoryArrays HA;
+
 struct Record {
   std::vector<double> vOld, Mv, Av, Bv;  // v_{n-1}; workspace
   double energyOld = 0;                  // kinetic + elastic of the previous step
@@ -926,6 +929,7 @@ long recordStart(KN<double> *const &pv0, KN<double> *const &pu0, KN<double> *con
   RC.energyOld = kinetic + elastic;
   RC.generation = F.generation;
   RC.step = 0;
+  HA = HistoryArrays();                  // a new record writes no rows until contactKernelHistory
   return 0;
 }
 
@@ -951,6 +955,9 @@ long stepRecord(KN<double> *const &pv, KN<double> *const &pu, KN<double> *const 
   const char *strided = "contactKernelRecord: arrays must be contiguous";
   const double *pv0 = contiguous(v, strided), *pu0 = contiguous(u, strided), *pf0 = contiguous(f, strided);
   double *pMv0 = contiguous(Mv, strided), *pBu0 = contiguous(Bu, strided);
+  // Mv and Bu are overwritten row by row while v and u are still read
+  if (pMv0 == pv0 || pMv0 == pu0 || pBu0 == pv0 || pBu0 == pu0 || pMv0 == pBu0)
+    ExecError("contactKernelRecord: Mv and Bu must be arrays of their own, not v or u");
   double *vOld = RC.vOld.data();
   double vMv = 0, vAv = 0, vBv = 0, dvMdv = 0, uBu = 0, fv = 0;
   P3.forEachRow(pv0, [&](int i, double m, double a, double b) {   // each row once its products are known
@@ -1000,9 +1007,7 @@ long stepRecord(KN<double> *const &pv, KN<double> *const &pu, KN<double> *const 
 // (t = n k), the iterations and residual from info (the solvers' [residual, iterations, ...]).
 // Arrays of the script, kept by address: sized before, not resized while the record runs.
 // One call a step instead of a line per column (each line costs the interpreter about 1 us).
-struct HistoryArrays { KN<double> *info = nullptr, *history = nullptr, *contactHistory = nullptr; };
-HistoryArrays HA;
-
+// contactKernelRecordStart forgets them (HA, declared with the Record).
 long historyArrays(KN<double> *const &pinfo, KN<double> *const &phistory, KN<double> *const &pcontactHistory) {
   HA.info = pinfo; HA.history = phistory; HA.contactHistory = pcontactHistory;
   return 0;

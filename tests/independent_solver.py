@@ -9,7 +9,8 @@ WHAT IT SOLVES
     (1/k) m(v_n - v_{n-1}, w) + a(v_n, w) + b(u_{n-1} + k v_n, w)
       + sum_i w_i [ (p(v_nu_i) + lambda_nu_i) w_nu(x_i) + lambda_tau_i w_tau(x_i) ] = f_n(w)
   m = int rho v.w (consistent P1 mass), a = int muv div div + eta eps:eps,
-  b = int E nu/(1-nu^2) div div + E/(1+nu) eps:eps, f_n(w) = int_{GammaTraction} (0,-load t_n).w,
+  b = int lambda div div + E/(1+nu) eps:eps (lambda = E nu/(1-nu^2) in plane stress,
+  E nu/((1+nu)(1-2nu)) in plane strain), f_n(w) = int_{GammaTraction} (0,-load t_n).w,
   p(r) = cnu max(r,0). Contact is nodal on the GammaContact nodes, weight w_i = half the
   length of the adjacent GammaContact edges, outward normal (0,-1): v_nu = -v_y, v_tau = v_x.
     original: v_nu <= g, lambda_nu >= 0, lambda_nu (v_nu - g) = 0
@@ -47,7 +48,7 @@ HOW (independent of the FreeFEM code; written from docs/design.md and the paper 
 
 USAGE
   /usr/bin/python3 tests/independent_solver.py --mesh FILE.msh [--scene paper|column]
-      [--problem original|penalty] [--T 1] [--dt 0.05] [--rho 2e-6] [--E 100] [--nu 0.2]
+      [--problem original|penalty] [--plane stress|strain] [--T 1] [--dt 0.05] [--rho 2e-6] [--E 100] [--nu 0.2]
       [--muv 0.25] [--eta 0.5] [--load 10] [--cnu 50] [--g 0.05] [--mu 0.4] [--eps 2e-5]
       [--tol 1e-12] [--maxit 100] --out DIR
     writes DIR/contact.txt (x v_nu v_tau p_nu lambda_nu lambda_tau, GammaContact nodes sorted
@@ -87,9 +88,9 @@ SCENES = {
     "column": {"GammaLeft": (0,)},
 }
 TRACTION_DIRECTION = (0.0, -1.0)     # f2 = load * t * (0, -1) on GammaTraction, both scenes
-DEFAULTS = dict(scene="paper", problem="original", T=1.0, dt=0.05, rho=2e-6, E=100.0,
+DEFAULTS = dict(scene="paper", problem="original", plane="stress", T=1.0, dt=0.05, rho=2e-6, E=100.0,
                 nu=0.2, muv=0.25, eta=0.5, load=10.0, cnu=50.0, g=0.05, mu=0.4, eps=2e-5)
-PARAM_KEYS = ["scene", "problem", "T", "dt", "rho", "E", "nu", "muv", "eta", "load",
+PARAM_KEYS = ["scene", "problem", "plane", "T", "dt", "rho", "E", "nu", "muv", "eta", "load",
               "cnu", "g", "mu", "eps"]
 
 
@@ -112,7 +113,9 @@ def assemble(xy, tri, prm):
         return np.array([[lam + g, lam, 0.0], [lam, lam + g, 0.0], [0.0, 0.0, g / 2.0]])
 
     E, nu = prm["E"], prm["nu"]
-    Dela = voigt(E * nu / (1.0 - nu * nu), E / (1.0 + nu))
+    # plane stress (the paper's, sigma_zz = 0) or plane strain (eps_zz = 0): B's lambda
+    lam = E * nu / ((1.0 + nu) * (1.0 - 2.0 * nu)) if prm["plane"] == "strain" else E * nu / (1.0 - nu * nu)
+    Dela = voigt(lam, E / (1.0 + nu))
     Dvis = voigt(prm["muv"], prm["eta"])
     mloc = np.array([[2.0, 1.0, 1.0], [1.0, 2.0, 1.0], [1.0, 1.0, 2.0]]) / 12.0
     used = np.zeros(len(xy), dtype=bool)
@@ -472,9 +475,12 @@ def to_params(d, where):
     """The parameters PARAM_KEYS of a run from the suite.Values d of one of its files."""
     prm = {}
     for kk in PARAM_KEYS:
+        if kk == "plane" and kk not in d:
+            prm[kk] = "stress"                  # runs from before the option: plane stress
+            continue
         if kk not in d:
             raise InputError("%s: parameter '%s' missing" % (where, kk))
-        prm[kk] = d[kk] if kk in ("scene", "problem") else d.real(kk)
+        prm[kk] = d[kk] if kk in ("scene", "problem", "plane") else d.real(kk)
     return prm
 
 
@@ -486,8 +492,8 @@ def compare(run_dir, rtol, tol, maxit, out):
     for kk in PARAM_KEYS:
         if prm[kk] != prm2[kk]:
             raise InputError("parameter %s differs: summary.txt %s, contact.txt %s" % (kk, prm[kk], prm2[kk]))
-    if prm["scene"] not in SCENES or prm["problem"] not in ("original", "penalty"):
-        raise InputError("unsupported scene/problem %s/%s" % (prm["scene"], prm["problem"]))
+    if prm["scene"] not in SCENES or prm["problem"] not in ("original", "penalty") or prm["plane"] not in ("stress", "strain"):
+        raise InputError("unsupported scene/problem/plane %s/%s/%s" % (prm["scene"], prm["problem"], prm["plane"]))
     theirs_f = suite.read_table(os.path.join(run_dir, "fields.txt"))
     print("parameters: " + " ".join("%s=%s" % (kk, prm[kk]) for kk in PARAM_KEYS))
     mesh = os.path.join(run_dir, "mesh.msh")
@@ -545,7 +551,8 @@ def main(argv):
     ap.add_argument("--rtol", type=float, default=1e-9)
     ap.add_argument("--scene", default=DEFAULTS["scene"], choices=sorted(SCENES))
     ap.add_argument("--problem", default=DEFAULTS["problem"], choices=["original", "penalty"])
-    for kk in PARAM_KEYS[2:]:
+    ap.add_argument("--plane", default=DEFAULTS["plane"], choices=["stress", "strain"])
+    for kk in PARAM_KEYS[3:]:
         ap.add_argument("--" + kk, type=float, default=DEFAULTS[kk])
     ap.add_argument("--tol", type=float, default=1e-12)
     ap.add_argument("--maxit", type=int, default=100)

@@ -293,7 +293,11 @@ class Checker:
         # every step: the total contact force, and the free nodes of the pulled steps
         q_steps = load * law.h(h["t"])
         inertia_steps = np.sqrt(2 * h["kinetic_jump"] * rho * area) / dt
-        off = np.abs(ch["normal_force"] - (q_steps * length + weight)) - inertia_steps - 1e-12 * force_scale
+        # round-off grows with the stiffness of the volumetric term (lambda/E, large near nu = 0.5)
+        E, nu = self.real("E"), self.real("nu")
+        lam = E * nu / ((1 + nu) * (1 - 2 * nu)) if self.params.get("plane", "stress") == "strain" else E * nu / (1 - nu ** 2)
+        roundoff = 1e-12 * max(1.0, lam / E) * force_scale
+        off = np.abs(ch["normal_force"] - (q_steps * length + weight)) - inertia_steps - roundoff
         worst = int(np.argmax(off))
         self.expect(off[worst] <= 0, f"step {worst + 1}: total contact force {ch['normal_force'][worst]:.15e} != "
                     f"q L = {q_steps[worst] * length + weight:.15e} (inertia bound {inertia_steps[worst]:.3e})")
@@ -341,29 +345,38 @@ class Checker:
                     f"{err_v[worst]:.3e} > {allowed[worst]:.3e} at x = {c['x'][worst]}")
         self.expect(np.abs(c["lambda_tau"]).max() == 0.0 or self.real("mu") > 0, "lambda_tau != 0 without friction")
         if (q_steps > 0).all():
-            # relative to the stress: each step's inertia bound, and that of the acceleration
-            # along the known answer, at the largest over the run
-            relative = (2 * inertia_steps / length + rho * height * rate) / q_steps
-            self.check_uniaxial_strain(q_steps, float(relative.max()) + 1e-9)
+            # the stress error of each step: its inertia bound, and that of the acceleration
+            # along the known answer (absolute, per unit length)
+            self.check_uniaxial_strain(q_steps, 2 * inertia_steps / length + rho * height * rate)
 
-    def check_uniaxial_strain(self, q_steps, tolerance):
+    def check_uniaxial_strain(self, q_steps, stress_error):
         """The column pressed at every step is in uniaxial stress, sigma_yy = -q(t_n), sigma_xx =
         sigma_xy = 0, up to inertia: its strain is uniform, and the scheme's backward Euler on
         the two equations sigma_xx = 0, sigma_yy = -q of the Kelvin-Voigt law (docs/design.md,
         "The discrete problem") gives eps_xx and eps_yy at T exactly, for plane stress or plane strain. The
-        displacement of fields.txt must be affine, with those strains, to the inertia bound
-        relative to the stress (tolerance; 1e-10 to 1e-6 on the column scenes: 1e-10 measured
-        after 20 steps); the two planes differ by 4% (eps_yy) and 20% (eps_xx)."""
+        displacement of fields.txt must be affine, with those strains, to the bound that the
+        stress error of each step (stress_error: its inertia) leaves at T through the same
+        recurrence (e_n = R e_{n-1} + S dq_n, |e_n| <= |R| |e_{n-1}| + |S| dq_n in the infinity
+        norm: an early step's error fades with the law's memory), plus round-off. Measured:
+        1e-10 relative after 20 steps, against a bound of 8e-8 there; the two planes differ
+        by 4% (eps_yy) and 20% (eps_xx), and lambda 1e-5 off moves eps_xx by 6e-6."""
         E, nu, mu1, mu2, k = self.real("E"), self.real("nu"), self.real("muv"), self.real("eta"), self.real("dt")
         plane_strain = self.params.get("plane", "stress") == "strain"
         lam = E * nu / ((1 + nu) * (1 - 2 * nu)) if plane_strain else E * nu / (1 - nu ** 2)
         shear = E / (1 + nu)
         exx = eyy = 0.0
-        for q in q_steps:                # the rates (b, a) of eps_xx, eps_yy at step n; eps_n = eps_{n-1} + k rate
-            lhs = np.array([[mu1 + mu2 + k * (lam + shear), mu1 + k * lam], [mu1 + k * lam, mu1 + mu2 + k * (lam + shear)]])
+        lhs = np.array([[mu1 + mu2 + k * (lam + shear), mu1 + k * lam], [mu1 + k * lam, mu1 + mu2 + k * (lam + shear)]])
+        # e_n = R e_{n-1} + S q_n for e = (eps_xx, eps_yy): the rates L^-1 (C e - (0, q)), e += k rate
+        C = np.array([[-(lam + shear), -lam], [-lam, -(lam + shear)]])
+        R = np.eye(2) + k * np.linalg.solve(lhs, C)
+        S = k * np.linalg.solve(lhs, np.array([0.0, -1.0]))
+        bound = 0.0
+        for q, dq in zip(q_steps, stress_error):   # the rates (b, a) of eps_xx, eps_yy at step n
             rhs = np.array([-lam * (exx + eyy) - shear * exx, -q - lam * (exx + eyy) - shear * eyy])
             b, a = np.linalg.solve(lhs, rhs)
             exx, eyy = exx + k * b, eyy + k * a
+            bound = np.abs(R).sum(1).max() * bound + np.abs(S).max() * dq
+        tolerance = bound / abs(eyy) + 1e-9
         f = self.f
         basis = np.c_[np.ones(len(f)), f["x"], f["y"]]
         cx = np.linalg.lstsq(basis, f["u_x"], rcond=None)[0]

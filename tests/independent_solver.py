@@ -4,7 +4,7 @@ frictional contact problem (docs/design.md, "The discrete problem"; Barboteu, Ou
 Sofonea 2018), used to cross-check the FreeFEM code (edp/solve.edp) on small meshes.
 
 WHAT IT SOLVES
-  Plane stress, P1 triangles, velocity v as unknown, backward Euler with k = T/N,
+  Plane stress or plane strain (--plane), P1 triangles, velocity v as unknown, backward Euler with k = T/N,
   u_n = u_{n-1} + k v_n, u0 = v0 = 0. For every step n and every w in V_h:
     (1/k) m(v_n - v_{n-1}, w) + a(v_n, w) + b(u_{n-1} + k v_n, w)
       + sum_i w_i [ (p(v_nu_i) + lambda_nu_i) w_nu(x_i) + lambda_tau_i w_tau(x_i) ] = f_n(w)

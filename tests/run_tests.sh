@@ -1034,7 +1034,11 @@ other=$("${FREEFEM[@]}" edp/compare.edp -a "$work/cmp-a" -ref "$work/cmp-b" 2>> 
 echo "self: $self; against 32x16: $other" >> "$diag"
 awk '{ exit !($1 == "error_L2" && $2 == 0 && $6 == 0) }' <<< "$self" || status=1
 awk '{ exit !($1 == "error_L2" && $2 > 0 && $2 < 0.1 * $4) }' <<< "$other" || status=1
-report $status "edp/compare.edp: a run against itself gives 0, against a finer mesh a small error" "$diag"
+rm -rf "$work/cmp-c"
+solve -nx 16 -ny 8 -dt 0.1 -plane strain -out "$work/cmp-c" >> "$diag" 2>&1 || status=1
+"${FREEFEM[@]}" edp/compare.edp -a "$work/cmp-c" -ref "$work/cmp-b" > "$work/cmp-c.out" 2>&1; code=$?
+{ [ "$code" = 2 ] && grep -q "the runs differ in -plane" "$work/cmp-c.out"; } || { echo "a plane-strain run against a plane-stress one: exit $code"; cat "$work/cmp-c.out"; status=1; } >> "$diag"
+report $status "edp/compare.edp: a run against itself gives 0, against a finer mesh a small error, against another body (-plane strain) refused" "$diag"
 
 # ---- reproducibility: the same options give byte-identical outputs (timings aside)
 diag="$work/repro.diag"; : > "$diag"; status=0

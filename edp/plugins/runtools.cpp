@@ -889,7 +889,10 @@ void checkMesh(const std::string &path, const std::string &outPath, const std::s
     if (!std::isfinite(x) || !std::isfinite(y) || !std::isfinite(z)) throw MeshProblem{"node " + std::to_string(id) + " has a non-finite coordinate"};
     if (index.count(id)) throw MeshProblem{"node " + std::to_string(id) + " is defined twice"};
     if (i == 0) z0 = z;
-    if (z != z0) throw MeshProblem{"node " + std::to_string(id) + " has z = " + numberText(z) + ": the mesh is not flat (2D meshes only)"};
+    if (z != z0)
+      throw MeshProblem{"node " + std::to_string(id) + " has z = " + numberText(z) + " and the first node z = " + numberText(z0) +
+                        ": the mesh is not flat (a 3D mesh?); the suite solves 2D bodies only (plane stress, or -plane strain for "
+                        "a long body or a slab between walls)"};
     index[id] = i;
     xy[i] = {x, y};
     xmin = std::min(xmin, x); xmax = std::max(xmax, x); ymin = std::min(ymin, y); ymax = std::max(ymax, y);

@@ -83,6 +83,15 @@ class Checker:
     def real(self, key):
         return self.params.real(key)
 
+    def plane_strain(self):
+        return self.params.get("plane", "stress") == "strain"     # runs from before -plane: plane stress
+
+    def elastic_lambda(self):
+        """B's volumetric coefficient (docs/design.md, "The discrete problem"): E nu/(1-nu^2) in
+        plane stress (sigma_zz = 0), E nu/((1+nu)(1-2nu)) in plane strain (eps_zz = 0)."""
+        E, nu = self.real("E"), self.real("nu")
+        return E * nu / ((1 + nu) * (1 - 2 * nu)) if self.plane_strain() else E * nu / (1 - nu ** 2)
+
     def count(self, key):
         """A whole number of summary.txt, -1 when it is not there."""
         return self.summary.integer(key) if key in self.summary else -1
@@ -248,9 +257,7 @@ class Checker:
             exx, eyy = (gx * ux[tri]).sum(1), (gy * uy[tri]).sum(1)
             return exx, eyy, 0.5 * ((gy * ux[tri]).sum(1) + (gx * uy[tri]).sum(1))
         E, nu, muv, eta = self.real("E"), self.real("nu"), self.real("muv"), self.real("eta")
-        # B's volumetric coefficient: plane stress (sigma_zz = 0) or plane strain (eps_zz = 0)
-        plane_strain = self.params.get("plane", "stress") == "strain"
-        lam = E * nu / ((1 + nu) * (1 - 2 * nu)) if plane_strain else E * nu / (1 - nu ** 2)
+        plane_strain, lam = self.plane_strain(), self.elastic_lambda()
         ev, eu = strain(f["v_x"], f["v_y"]), strain(f["u_x"], f["u_y"])
         lame = muv * (ev[0] + ev[1]) + lam * (eu[0] + eu[1])
         sxx, syy, sxy = (lame + eta * ev[0] + E / (1 + nu) * eu[0], lame + eta * ev[1] + E / (1 + nu) * eu[1],
@@ -294,9 +301,7 @@ class Checker:
         q_steps = load * law.h(h["t"])
         inertia_steps = np.sqrt(2 * h["kinetic_jump"] * rho * area) / dt
         # round-off grows with the stiffness of the volumetric term (lambda/E, large near nu = 0.5)
-        E, nu = self.real("E"), self.real("nu")
-        lam = E * nu / ((1 + nu) * (1 - 2 * nu)) if self.params.get("plane", "stress") == "strain" else E * nu / (1 - nu ** 2)
-        roundoff = 1e-12 * max(1.0, lam / E) * force_scale
+        roundoff = 1e-12 * max(1.0, self.elastic_lambda() / self.real("E")) * force_scale
         off = np.abs(ch["normal_force"] - (q_steps * length + weight)) - inertia_steps - roundoff
         worst = int(np.argmax(off))
         self.expect(off[worst] <= 0, f"step {worst + 1}: total contact force {ch['normal_force'][worst]:.15e} != "
@@ -361,8 +366,7 @@ class Checker:
         1e-10 relative after 20 steps, against a bound of 8e-8 there; the two planes differ
         by 4% (eps_yy) and 20% (eps_xx), and lambda 1e-5 off moves eps_xx by 6e-6."""
         E, nu, mu1, mu2, k = self.real("E"), self.real("nu"), self.real("muv"), self.real("eta"), self.real("dt")
-        plane_strain = self.params.get("plane", "stress") == "strain"
-        lam = E * nu / ((1 + nu) * (1 - 2 * nu)) if plane_strain else E * nu / (1 - nu ** 2)
+        plane_strain, lam = self.plane_strain(), self.elastic_lambda()
         shear = E / (1 + nu)
         exx = eyy = 0.0
         lhs = np.array([[mu1 + mu2 + k * (lam + shear), mu1 + k * lam], [mu1 + k * lam, mu1 + mu2 + k * (lam + shear)]])

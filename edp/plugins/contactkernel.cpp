@@ -602,7 +602,7 @@ struct Products {
   // the blocks, when rows 2I and 2I+1 hold the columns 2J, 2J+1 of the same J's (sorted)
   void makeBlocks() {
     blocked = false;
-    blockStart.assign(1, 0); blockColumn.clear(); blockValues.clear();
+    std::vector<int>(1, 0).swap(blockStart); std::vector<int>().swap(blockColumn); std::vector<double>().swap(blockValues);
     auto fill = [&]() {
       if (n % 2) return false;
       for (int I = 0; I < n / 2; I++) {              // the pattern first: no copy if it is not blocked
@@ -631,10 +631,7 @@ struct Products {
       blockStart[n / 2] = (int)b;
       return true;
     };
-    if (!fill()) {
-      std::vector<int>(1, 0).swap(blockStart); std::vector<int>().swap(blockColumn); std::vector<double>().swap(blockValues);
-      return;
-    }
+    if (!fill()) return;                            // the pattern is checked before any block is made
     blocked = true;
     std::vector<double>().swap(values);            // the blocks hold them now (entry() reads them)
   }

@@ -131,7 +131,8 @@ struct Contact {
   std::vector<double> nodeX, nodeW, nodeG;
   std::vector<int> observeStart, observeColumn;          // v -> v_nu, v_tau per node (CSR)
   std::vector<double> observeValue;
-  std::vector<int> normalSlot, tangentSlot;    // per node, -1: none
+  std::vector<int> normalSlot, tangentSlot, tangentSlot2;   // per node, -1: none (tangentSlot2: 3D)
+  int rowsPerNode = 2;                         // of the observation: v_nu, v_tau (and v_tau2 in 3D)
   std::vector<double> weight;                  // W per slot: its node's weight
   bool ready = false;
 };
@@ -180,31 +181,37 @@ long dampingTable(KN<double> *const &pr, KN<double> *const &pp) {
 }
 
 long nodes(KN<double> *const &px, KN<double> *const &pw, KN<double> *const &pg, KN<long> *const &pns,
-           KN<long> *const &pts) {
+           KN<long> *const &pts, KN<long> *const &pts2) {
   KN<double> &x = *px, &w = *pw, &g = *pg;
-  KN<long> &ns = *pns, &ts = *pts;
+  KN<long> &ns = *pns, &ts = *pts, &ts2 = *pts2;
   const int nn = x.N();
-  if (w.N() != nn || g.N() != nn || ns.N() != nn || ts.N() != nn) ExecError("contactKernelNodes: wrong argument sizes");
+  if (w.N() != nn || g.N() != nn || ns.N() != nn || ts.N() != nn || ts2.N() != nn) ExecError("contactKernelNodes: wrong argument sizes");
   int slots = 0;
-  for (int i = 0; i < nn; i++) slots += (ns[i] >= 0) + (ts[i] >= 0);
+  for (int i = 0; i < nn; i++) {
+    slots += (ns[i] >= 0) + (ts[i] >= 0) + (ts2[i] >= 0);
+    if (ts2[i] >= 0 && ts[i] < 0) ExecError("contactKernelNodes: a node with a second tangential slot must have a first");
+  }
   std::vector<int> owner(slots, -1);
   for (int i = 0; i < nn; i++)
-    for (long s : {ns[i], ts[i]})
+    for (long s : {ns[i], ts[i], ts2[i]})
       if (s >= 0) {
         if (s >= slots || owner[s] >= 0) ExecError("contactKernelNodes: slot numbers must be 0 .. slots-1, each used once");
         owner[s] = i;
       }
   N = Contact();
   N.nodeX.resize(nn); N.nodeW.resize(nn); N.nodeG.resize(nn); N.normalSlot.resize(nn); N.tangentSlot.resize(nn);
+  N.tangentSlot2.resize(nn);
   for (int i = 0; i < nn; i++) {
     N.nodeX[i] = x[i]; N.nodeW[i] = w[i]; N.nodeG[i] = g[i]; N.normalSlot[i] = ns[i]; N.tangentSlot[i] = ts[i];
+    N.tangentSlot2[i] = ts2[i];
   }
   N.weight.assign(slots, 0.);
   L.resize(slots);
   for (int i = 0; i < nn; i++) {
     if (!(g[i] > 0)) ExecError("contactKernelNodes: every velocity bound g must be > 0");
     if (ts[i] >= 0) { L.normal[ts[i]] = 0; L.partner[ts[i]] = ns[i]; }
-    for (long s : {ns[i], ts[i]}) if (s >= 0) N.weight[s] = w[i];
+    if (ts2[i] >= 0) { L.normal[ts2[i]] = 0; L.partner[ts2[i]] = ns[i]; L.pair[ts[i]] = ts2[i]; L.pair[ts2[i]] = ts[i]; }
+    for (long s : {ns[i], ts[i], ts2[i]}) if (s >= 0) N.weight[s] = w[i];
   }
   for (int j = 0; j < slots; j++) { L.setBound(j, g[owner[j]]); L.setAugmentation(j, SP.r); }
   std::string why;
@@ -407,9 +414,10 @@ long nodeVelocity(Matrice_Creuse<double> *const &pO) {
   requireNodes("contactKernelNodeVelocity");
   MatriceMorse<double> &O = *morse(pO);
   const int nn = N.nodeX.size();
-  if (O.n != 2 * nn) ExecError("contactKernelNodeVelocity: two rows per node expected");
+  if (O.n != 2 * nn && O.n != 3 * nn) ExecError("contactKernelNodeVelocity: two rows per node (2D) or three (3D) expected");
+  N.rowsPerNode = nn > 0 ? O.n / nn : 2;
   O.COO();
-  std::vector<std::vector<std::pair<int, double>>> rows(2 * nn);
+  std::vector<std::vector<std::pair<int, double>>> rows(O.n);
   for (size_t k = 0; k < O.nnz; k++) rows[O.i[k]].push_back({O.j[k], O.aij[k]});
   N.observeStart.assign(1, 0); N.observeColumn.clear(); N.observeValue.clear();
   for (auto &row : rows) {
@@ -419,18 +427,20 @@ long nodeVelocity(Matrice_Creuse<double> *const &pO) {
   return 0;
 }
 
-// v_nu, v_tau of every node from v (the observation rows); without them, from the slots
+// v_nu, v_tau (and v_tau2 in 3D) of every node from v (the observation rows); without them,
+// from the slots
 void nodeVelocities(const double *v, const std::vector<double> &cv, std::vector<double> &ov) {
-  const int nn = N.nodeX.size();
-  ov.assign(2 * nn, 0.);
-  if (N.observeStart.size() == (size_t)(2 * nn + 1)) {
-    for (int r = 0; r < 2 * nn; r++)
+  const int nn = N.nodeX.size(), k = N.rowsPerNode;
+  ov.assign(k * nn, 0.);
+  if (N.observeStart.size() == (size_t)(k * nn + 1)) {
+    for (int r = 0; r < k * nn; r++)
       for (int e = N.observeStart[r]; e < N.observeStart[r + 1]; e++) ov[r] += N.observeValue[e] * v[N.observeColumn[e]];
     return;
   }
   for (int i = 0; i < nn; i++) {
-    if (N.normalSlot[i] >= 0) ov[2 * i] = cv[N.normalSlot[i]];
-    if (N.tangentSlot[i] >= 0) ov[2 * i + 1] = cv[N.tangentSlot[i]];
+    if (N.normalSlot[i] >= 0) ov[k * i] = cv[N.normalSlot[i]];
+    if (N.tangentSlot[i] >= 0) ov[k * i + 1] = cv[N.tangentSlot[i]];
+    if (k == 3 && N.tangentSlot2[i] >= 0) ov[k * i + 2] = cv[N.tangentSlot2[i]];
   }
 }
 
@@ -462,9 +472,13 @@ long delassus(KNM<double> *const &pDw) {
   for (int j = 0; j < nc; j++) for (int i = 0; i < nc; i++) Dw(i, j) = F.Dw[i + (size_t)j * nc];
   // r_j = r / Dw_jj: the stress a unit velocity of slot j produces through the body, so that
   // the default r = 1 fits any scene
-  for (int j = 0; j < nc; j++) L.setAugmentation(j, SP.r / F.Dw[j + (size_t)j * nc]);
+  // (a 3D node's tangential pair shares one: 1 over the mean of its two Dw_jj)
   F.rReference.assign(nc, 0.);
-  for (int j = 0; j < nc; j++) F.rReference[j] = 1. / F.Dw[j + (size_t)j * nc];
+  for (int j = 0; j < nc; j++) {
+    const int q = L.pair[j];
+    F.rReference[j] = q >= 0 ? 2. / (F.Dw[j + (size_t)j * nc] + F.Dw[q + (size_t)q * nc]) : 1. / F.Dw[j + (size_t)j * nc];
+  }
+  for (int j = 0; j < nc; j++) L.setAugmentation(j, L.pair[j] >= 0 ? SP.r * F.rReference[j] : SP.r / F.Dw[j + (size_t)j * nc]);
   return 0;
 }
 
@@ -822,20 +836,22 @@ long multiply(KN<double> *const &pv, KN<double> *const &pMv, KN<double> *const &
 // The values of node i from its velocities ov (nodeVelocities) and the contact stresses Lam,
 // with the statuses of contactlaw.hpp (+ 0. turns -0 into 0).
 struct NodeValues {
-  double vn, vt, pn, ln, lt, bound;
+  double vn, vt, vt2, pn, ln, lt, lt2, bound;
   int normal, tangential;
 };
 NodeValues nodeValues(int i, const double *ov, const double *Lam) {
-  const int sn = N.normalSlot[i], st = N.tangentSlot[i];
+  const int sn = N.normalSlot[i], st = N.tangentSlot[i], st2 = N.tangentSlot2[i], k = N.rowsPerNode;
   NodeValues s;
-  s.vn = ov[2 * i] + 0.;
-  s.vt = ov[2 * i + 1] + 0.;
+  s.vn = ov[k * i] + 0.;
+  s.vt = ov[k * i + 1] + 0.;
+  s.vt2 = k == 3 ? ov[k * i + 2] + 0. : 0.;
   s.pn = sn >= 0 ? Lam[sn] : 0.;
   s.lt = st >= 0 ? Lam[st] : 0.;
+  s.lt2 = st2 >= 0 ? Lam[st2] : 0.;
   s.ln = (sn >= 0 ? s.pn - dampedResponse(L.P, s.vn) : 0.) + 0.;
   s.bound = frictionBound(L.P, s.vn);
   s.normal = normalStatus(s.vn, N.nodeG[i]);
-  s.tangential = tangentialStatus(s.vt, N.nodeG[i]);
+  s.tangential = tangentialStatus(k == 3 ? std::hypot(s.vt, s.vt2) : s.vt, N.nodeG[i]);
   return s;
 }
 
@@ -849,13 +865,13 @@ long nodal(KN<double> *const &pv, KN<double> *const &pLam, KNM<double> *const &p
   nodeVelocities(vv.data(), cv, ov);
   KNM<double> &table = *ptable;
   const int nn = N.nodeX.size();
-  table.resize(nn, 10);
+  table.resize(nn, 12);
   for (int i = 0; i < nn; i++) {
     const NodeValues s = nodeValues(i, ov.data(), lam.data());
     const int sn = N.normalSlot[i] >= 0 ? N.normalSlot[i] : N.tangentSlot[i];
-    const double row[10] = {s.vn, s.vt, s.pn, s.ln, s.lt, (double)s.normal, (double)s.tangential, s.bound,
-                            L.forceScale[sn], (double)zone(s.normal, s.tangential)};
-    for (int k = 0; k < 10; k++) table(i, k) = row[k];
+    const double row[12] = {s.vn, s.vt, s.pn, s.ln, s.lt, (double)s.normal, (double)s.tangential, s.bound,
+                            L.forceScale[sn], (double)zone(s.normal, s.tangential), s.vt2, s.lt2};
+    for (int k = 0; k < 12; k++) table(i, k) = row[k];
   }
   return 0;
 }
@@ -1025,9 +1041,9 @@ void writeHistoryRow(const KN<double> &rec) {
 }
 
 // ---------------------------------------------------------------- Newton
-// The Newton matrix N (nc x nc) of the relations a_j c[slot_j] + d_j m_j = h_j with
-// c = cFree - Dw m: row j = -a_j Dw(slot_j, :) + d_j e_j'. A base matrix N0 (its relations
-// baseA, baseD, baseS) is LU-factorized; a matrix whose relations differ from N0's in a few
+// The Newton matrix N (nc x nc) of the relations sum_t a_jt c[aSlot_jt] + d_jt m[dSlot_jt] = h_j
+// (contactlaw.hpp; one term of each in 2D) with c = cFree - Dw m: row j = sum_t -a_jt Dw(aSlot_jt, :)
+// + d_jt e_dSlot_jt'. A base matrix N0 (its relations baseA, baseD, baseS, baseT) is LU-factorized; a matrix whose relations differ from N0's in a few
 // rows R only is solved with N0's factors and a rank-|R| (Woodbury) correction:
 //   N = N0 + E_R Delta,  N^-1 b = x0 - Y K^-1 Delta x0,  x0 = N0^-1 b,  Y = N0^-1 E_R,  K = I + Delta Y.
 // N0 is factorized again when |R| exceeds nc/3, or when a corrected solve fails its residual
@@ -1039,7 +1055,7 @@ struct Newton {
   bool inverted = false;
   std::vector<double> Dx;              // Dw x for the last x newtonSolve checked (haveDx)
   bool haveDx = false;
-  std::vector<int> pivots, Kpivots, changed, baseS, preparedS;
+  std::vector<int> pivots, Kpivots, changed, baseS, baseT, preparedS, preparedT;
   std::vector<double> baseA, baseD, preparedA, preparedD;
   bool haveBase = false;
   long factorizations = 0, corrections = 0, refinements = 0;
@@ -1091,11 +1107,66 @@ void fixedPointPrepare() {
   FP.generation = F.delassusGeneration;
 }
 
+// A 3D node's tangential pair (j, q) in one update: with the pair's block D of Dw and the
+// others held, c_tau = b - D m_tau (b = c_tau + D m_tau now), and the disk law asks for
+// b - D m in the normal cone of the disk |m| <= s at m: the minimum of m'Dm/2 - b'm on the
+// disk. Inside (|D^-1 b| <= s): stick, m = D^-1 b. Else m = (D + nu I)^-1 b with nu > 0 such
+// that |m| = s (Newton on 1/|m(nu)| - 1/s, kept in its bracket by bisection). Exact, as the
+// scalar slots' update.
+void fixedPointDisk(int j, int q, double *c, double *m) {
+  const int nc = F.nc, inc = 1;
+  const double Djj = F.Dw[j + (size_t)j * nc], Djq = F.Dw[j + (size_t)q * nc];
+  const double Dqj = F.Dw[q + (size_t)j * nc], Dqq = F.Dw[q + (size_t)q * nc];
+  const double bj = c[j] + Djj * m[j] + Djq * m[q], bq = c[q] + Dqj * m[j] + Dqq * m[q];
+  const int p = L.partner[j];
+  const double s = p >= 0 ? frictionBound(L.P, c[p]) : 0.;
+  double mj = 0, mq = 0;
+  auto solveShifted = [&](double nu, double &xj, double &xq) {   // (D + nu I) x = b
+    const double a11 = Djj + nu, a22 = Dqq + nu, det = a11 * a22 - Djq * Dqj;
+    xj = (a22 * bj - Djq * bq) / det; xq = (a11 * bq - Dqj * bj) / det;
+  };
+  if (s > 0) {
+    solveShifted(0., mj, mq);
+    const double bLength = std::hypot(bj, bq);
+    if (std::hypot(mj, mq) > s) {
+      double lo = 0, hi = bLength / s, nu = 0;
+      for (int k = 0; k < 100; k++) {
+        double xj, xq;
+        solveShifted(nu, xj, xq);
+        const double length = std::hypot(xj, xq), psi = 1 / length - 1 / s;
+        if (psi < 0) lo = nu; else hi = nu;
+        // psi'(nu) = x'(D + nu I)^-1 x / |x|^3
+        double yj, yq;
+        { const double a11 = Djj + nu, a22 = Dqq + nu, det = a11 * a22 - Djq * Dqj;
+          yj = (a22 * xj - Djq * xq) / det; yq = (a11 * xq - Dqj * xj) / det; }
+        const double slope = (xj * yj + xq * yq) / (length * length * length);
+        double next = nu - psi / slope;
+        if (!(next > lo && next < hi)) next = 0.5 * (lo + hi);
+        if (std::fabs(psi) * s <= 1e-15 || hi - lo <= 1e-15 * hi) { mj = xj; mq = xq; break; }
+        nu = next;
+        mj = xj; mq = xq;
+      }
+      const double length = std::hypot(mj, mq);   // on the circle exactly
+      if (length > 0) { mj *= s / length; mq *= s / length; }
+    }
+  }
+  const double deltaJ = FP.omega * (mj - m[j]), deltaQ = FP.omega * (mq - m[q]);
+  m[j] += deltaJ; m[q] += deltaQ;
+  const double minusJ = -deltaJ, minusQ = -deltaQ;
+  if (deltaJ != 0) daxpy_(&nc, &minusJ, F.Dw.data() + (size_t)j * nc, &inc, c, &inc);
+  if (deltaQ != 0) daxpy_(&nc, &minusQ, F.Dw.data() + (size_t)q * nc, &inc, c, &inc);
+}
+
 // one sweep over the slots, forward or backward; c = cFree - Dw m follows m
 void fixedPointSweep(bool forward, double *c, double *m) {
   const int nc = F.nc, inc = 1;
   for (int k = 0; k < nc; k++) {
     const int j = forward ? k : nc - 1 - k;
+    const int q = L.pair[j];
+    if (q >= 0) {                                    // a 3D pair, at the first of its two slots
+      if (forward ? q > j : q < j) fixedPointDisk(j, q, c, m);
+      continue;
+    }
     const double *column = F.Dw.data() + (size_t)j * nc;
     const double y = m[j] + c[j] / column[j];
     double t = 0, v = 0;
@@ -1127,12 +1198,32 @@ double fixedPointIteration(const double *cFree, double *c, double *m, double &me
 // (Q.N0inv) computed from them: a solve uses the factors (backward stable: the inverse alone
 // loses digits on the badly conditioned matrices of a literal penalty), a correction reads
 // the columns N0^-1 E_R from the inverse instead of solving for them
+const int T = Slots::termsPerRelation;
+// row j of the Newton matrix of the relations (a, aSlot, d, dSlot) into out[j * stride + i * ld],
+// i < nc, times sign, added (0 = sum of the first terms; the others where nonzero)
+void addNewtonRow(int j, const std::vector<double> &a, const std::vector<int> &aSlot, const std::vector<double> &d,
+                  const std::vector<int> &dSlot, double sign, double *out, size_t ld) {
+  const int nc = F.nc;
+  for (int t = 0; t < T; t++) {
+    const double at = a[T * j + t];
+    if (t > 0 && at == 0) continue;
+    const double *row = F.Dw.data() + aSlot[T * j + t];
+    for (int i = 0; i < nc; i++) out[i * ld] += sign * (-at * row[(size_t)i * nc]);
+  }
+  for (int t = 0; t < T; t++) if (t == 0 || d[T * j + t] != 0) out[dSlot[T * j + t] * ld] += sign * d[T * j + t];
+}
 bool newtonFactorBase() {
   const int nc = F.nc;
   Q.N0.assign((size_t)nc * nc, 0.);
   for (int jj = 0; jj < nc; jj++)
-    for (int j = 0; j < nc; j++) Q.N0[j + (size_t)jj * nc] = -L.a[j] * F.Dw[L.slot[j] + (size_t)jj * nc];
-  for (int j = 0; j < nc; j++) Q.N0[j + (size_t)j * nc] += L.d[j];
+    for (int j = 0; j < nc; j++) Q.N0[j + (size_t)jj * nc] = -L.a[T * j] * F.Dw[L.aSlot[T * j] + (size_t)jj * nc];
+  for (int j = 0; j < nc; j++) Q.N0[j + (size_t)L.dSlot[T * j] * nc] += L.d[T * j];
+  for (int j = 0; j < nc; j++)                       // the further terms (a 3D disk's Slip)
+    for (int t = 1; t < T; t++) {
+      if (L.a[T * j + t] != 0)
+        for (int jj = 0; jj < nc; jj++) Q.N0[j + (size_t)jj * nc] -= L.a[T * j + t] * F.Dw[L.aSlot[T * j + t] + (size_t)jj * nc];
+      if (L.d[T * j + t] != 0) Q.N0[j + (size_t)L.dSlot[T * j + t] * nc] += L.d[T * j + t];
+    }
   Q.pivots.resize(nc);
   int info = 0;
   dgetrf_(&nc, &nc, Q.N0.data(), &nc, Q.pivots.data(), &info);
@@ -1141,9 +1232,9 @@ bool newtonFactorBase() {
   Q.haveBase = info == 0;
   Q.generation = F.generation;
   Q.changed.clear();
-  Q.baseA = L.a; Q.baseD = L.d; Q.baseS = L.slot;
-  Q.preparedA = L.a; Q.preparedD = L.d; Q.preparedS = L.slot;
-  if (!Q.haveBase) Q.preparedS.assign(nc, -1);
+  Q.baseA = L.a; Q.baseD = L.d; Q.baseS = L.aSlot; Q.baseT = L.dSlot;
+  Q.preparedA = L.a; Q.preparedD = L.d; Q.preparedS = L.aSlot; Q.preparedT = L.dSlot;
+  if (!Q.haveBase) Q.preparedS.assign(T * nc, -1);
   return Q.haveBase;
 }
 
@@ -1163,7 +1254,8 @@ bool newtonInverse() {
 }
 
 bool sameAsPrepared() {
-  return Q.haveBase && Q.generation == F.generation && L.a == Q.preparedA && L.d == Q.preparedD && L.slot == Q.preparedS;
+  return Q.haveBase && Q.generation == F.generation && L.a == Q.preparedA && L.d == Q.preparedD && L.aSlot == Q.preparedS
+         && L.dSlot == Q.preparedT;
 }
 
 // Prepare the solves with the Newton matrix of the current relations. A correction of rank
@@ -1174,19 +1266,32 @@ bool newtonPrepare() {
   if (!Q.haveBase || Q.generation != F.generation) return newtonFactorBase();
   std::vector<int> R;
   for (int j = 0; j < nc; j++)
-    if (L.a[j] != Q.baseA[j] || L.d[j] != Q.baseD[j] || L.slot[j] != Q.baseS[j]) R.push_back(j);
+    for (int t = 0; t < T; t++) {
+      const int e = T * j + t;
+      if (L.a[e] != Q.baseA[e] || L.d[e] != Q.baseD[e] || L.aSlot[e] != Q.baseS[e] || L.dSlot[e] != Q.baseT[e]) {
+        R.push_back(j);
+        break;
+      }
+    }
   const int r = R.size();
   if (r > nc / 3) return newtonFactorBase();
   Q.changed = R;
-  Q.preparedA = L.a; Q.preparedD = L.d; Q.preparedS = L.slot;
+  Q.preparedA = L.a; Q.preparedD = L.d; Q.preparedS = L.aSlot; Q.preparedT = L.dSlot;
   if (r == 0) return true;
   // Delta (r x nc): the changed rows of N minus those of N0
   Q.Delta.assign((size_t)r * nc, 0.);
   for (int k = 0; k < r; k++) {
     int j = R[k];
+    bool single = L.dSlot[T * j] == j && Q.baseT[T * j] == j;
+    for (int t = 1; t < T; t++) single = single && L.a[T * j + t] == 0 && L.d[T * j + t] == 0 && Q.baseA[T * j + t] == 0 && Q.baseD[T * j + t] == 0;
+    if (!single) {                                   // a 3D disk's Slip: the rows term by term
+      addNewtonRow(j, L.a, L.aSlot, L.d, L.dSlot, 1., Q.Delta.data() + k, r);
+      addNewtonRow(j, Q.baseA, Q.baseS, Q.baseD, Q.baseT, -1., Q.Delta.data() + k, r);
+      continue;
+    }
     for (int i = 0; i < nc; i++)
-      Q.Delta[k + (size_t)i * r] = -L.a[j] * F.Dw[L.slot[j] + (size_t)i * nc] + Q.baseA[j] * F.Dw[Q.baseS[j] + (size_t)i * nc];
-    Q.Delta[k + (size_t)j * r] += L.d[j] - Q.baseD[j];
+      Q.Delta[k + (size_t)i * r] = -L.a[T * j] * F.Dw[L.aSlot[T * j] + (size_t)i * nc] + Q.baseA[T * j] * F.Dw[Q.baseS[T * j] + (size_t)i * nc];
+    Q.Delta[k + (size_t)j * r] += L.d[T * j] - Q.baseD[T * j];
   }
   // Y = N0^-1 E_R (columns R of the inverse), K = I + Delta Y
   if (!newtonInverse()) return newtonFactorBase();
@@ -1231,7 +1336,11 @@ double rowResidual(const double *b, const double *x, double *res) {
   Q.haveDx = true;
   double worst = 0;
   for (int j = 0; j < nc; j++) {
-    const double a = -L.a[j] * Dx[L.slot[j]], d = L.d[j] * x[j];
+    double a = -L.a[T * j] * Dx[L.aSlot[T * j]], d = L.d[T * j] * x[L.dSlot[T * j]];
+    for (int t = 1; t < T; t++) {                    // the further terms (a 3D disk's Slip)
+      if (L.a[T * j + t] != 0) a -= L.a[T * j + t] * Dx[L.aSlot[T * j + t]];
+      if (L.d[T * j + t] != 0) d += L.d[T * j + t] * x[L.dSlot[T * j + t]];
+    }
     const double scale = std::fabs(b[j]) + std::fabs(a) + std::fabs(d);
     res[j] = b[j] - a - d;
     const double relative = scale > 0 ? std::fabs(res[j]) / scale : (res[j] == 0 ? 0. : INFINITY);
@@ -1274,7 +1383,11 @@ int guard(int it, const double *c, const double *m) {
   if (it == 0) { std::fill(Q.seen.begin(), Q.seen.end(), -1.); Q.rDefault = L.r; }
   double fingerprint = 0;
   for (int j = 0; j < L.n; j++)
-    fingerprint += (L.key[j] + 0.6180339887 * L.a[j] + 0.4142135624 * L.d[j]) * (1. + ((7919 * j + 104729) % 1009));
+  {
+    double term = L.key[j] + 0.6180339887 * L.a[T * j] + 0.4142135624 * L.d[T * j];
+    for (int t = 1; t < T; t++) term += (0.6180339887 * L.a[T * j + t] + 0.4142135624 * L.d[T * j + t]) * (t + 1);
+    fingerprint += term * (1. + ((7919 * j + 104729) % 1009));
+  }
   int halved = 0;
   // the scale of the current r against the operator's (r = 1): halving only down to it
   const double scale = L.n > 0 && Q.rDefault[0] > 0 ? SP.r * L.r[0] / Q.rDefault[0] : 0.;
@@ -1452,7 +1565,10 @@ long newton(KN<double> *const &pcFree, KN<double> *const &pc, KN<double> *const 
     L.relations(c.data());
     if (guard(it, c.data(), m.data())) L.relations(c.data());   // r halved: the pieces at the new r
     if (!sameAsPrepared() && !newtonPrepare()) { residual = NAN; break; }
-    for (int j = 0; j < nc; j++) rhs[j] = L.h[j] - L.a[j] * cFree[L.slot[j]];
+    for (int j = 0; j < nc; j++) {
+      rhs[j] = L.h[j] - L.a[T * j] * cFree[L.aSlot[T * j]];
+      for (int t = 1; t < T; t++) if (L.a[T * j + t] != 0) rhs[j] -= L.a[T * j + t] * cFree[L.aSlot[T * j + t]];
+    }
     previous = m;
     if (!newtonSolve(rhs.data(), newtonM.data())) { residual = NAN; break; }
     double step = 1;
@@ -1590,15 +1706,16 @@ long wholeStep(KN<double> *const &prhs, KN<double> *const &pv, KN<double> *const
 
 // ---------------------------------------------------------------- the law for the script solvers
 long lawRelations(KN<double> *const &pc, KN<double> *const &pa, KN<double> *const &pd, KN<double> *const &ph,
-                  KN<long> *const &pslot) {
+                  KN<long> *const &paSlot, KN<long> *const &pdSlot) {
   requireNodes("contactLawRelations");
   KN<double> &cK = *pc, &a = *pa, &d = *pd, &h = *ph;
-  KN<long> &slot = *pslot;
+  KN<long> &aSlot = *paSlot, &dSlot = *pdSlot;
   if (cK.N() != L.n) ExecError("contactLawRelations: one value per slot expected");
   std::vector<double> c = copyOf(cK);
   L.relations(c.data());
-  a.resize(L.n); d.resize(L.n); h.resize(L.n); slot.resize(L.n);
-  for (int j = 0; j < L.n; j++) { a[j] = L.a[j]; d[j] = L.d[j]; h[j] = L.h[j]; slot[j] = L.slot[j]; }
+  a.resize(T * L.n); d.resize(T * L.n); h.resize(L.n); aSlot.resize(T * L.n); dSlot.resize(T * L.n);
+  for (int j = 0; j < L.n; j++) h[j] = L.h[j];
+  for (int e = 0; e < T * L.n; e++) { a[e] = L.a[e]; d[e] = L.d[e]; aSlot[e] = L.aSlot[e]; dSlot[e] = L.dSlot[e]; }
   return 0;
 }
 
@@ -1692,7 +1809,7 @@ long sourcesChanged(string *const &folder) {
 static void Load_Init() {
   Global.Add("contactKernelParameter", "(", new OneOperator2_<long, string *, double>(parameter));
   Global.Add("contactKernelDampingTable", "(", new OneOperator2_<long, KN<double> *, KN<double> *>(dampingTable));
-  Global.Add("contactKernelNodes", "(", new OneOperator5_<long, KN<double> *, KN<double> *, KN<double> *, KN<long> *, KN<long> *>(nodes));
+  Global.Add("contactKernelNodes", "(", new OneOperator6_<long, KN<double> *, KN<double> *, KN<double> *, KN<long> *, KN<long> *, KN<long> *>(nodes));
   Global.Add("contactKernelNodeVelocity", "(", new OneOperator1_<long, Matrice_Creuse<double> *>(nodeVelocity));
   Global.Add("contactKernelDampingSlope", "(", new OneOperator1_<long, KN<double> *>(dampingSlope));
   Global.Add("contactKernelFactorize", "(", new OneOperator2_<long, Matrice_Creuse<double> *, Matrice_Creuse<double> *>(factorize));
@@ -1716,7 +1833,7 @@ static void Load_Init() {
   Global.Add("contactKernelFixedPoint", "(", new OneOperator4_<long, KN<double> *, KN<double> *, KN<double> *, KN<double> *>(fixedPoint));
   Global.Add("contactKernelNewtonStep", "(", new OneOperator5_<long, KN<double> *, KN<double> *, KN<double> *, KN<double> *, KN<double> *>(wholeStep<newton>));
   Global.Add("contactKernelFixedPointStep", "(", new OneOperator5_<long, KN<double> *, KN<double> *, KN<double> *, KN<double> *, KN<double> *>(wholeStep<fixedPoint>));
-  Global.Add("contactLawRelations", "(", new OneOperator5_<long, KN<double> *, KN<double> *, KN<double> *, KN<double> *, KN<long> *>(lawRelations));
+  Global.Add("contactLawRelations", "(", new OneOperator6_<long, KN<double> *, KN<double> *, KN<double> *, KN<double> *, KN<long> *, KN<long> *>(lawRelations));
   Global.Add("contactNewtonLog", "(", new OneOperator4_<long, long, double, long, double>(newtonLog));
   Global.Add("contactNewtonGuard", "(", new OneOperator3_<long, long, KN<double> *, KN<double> *>(newtonGuard));
   Global.Add("contactNewtonEnd", "(", new OneOperator0<long>(newtonEnd));

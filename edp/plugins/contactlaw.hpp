@@ -82,6 +82,7 @@ inline double frictionBoundSlope(const Parameters &P, double vn) { return P.mu *
 const double statusTolerance = 1e-6;
 inline int normalStatus(double vn, double g) { return vn <= 0 ? 0 : (vn >= g * (1 - statusTolerance) ? 2 : 1); }
 inline int tangentialStatus(double vt, double g) { return std::fabs(vt) <= statusTolerance * g ? 0 : 1; }
+// (in 3D, vt is the length |v_tau| of the node's tangential velocity)
 // Zones: 0 free, 1 damped-slip, 2 damped-stick, 3 bound-slip, 4 bound-stick.
 inline int zone(int normal, int tangential) { return normal > 0 ? 2 * normal - tangential : 0; }
 
@@ -101,10 +102,19 @@ inline int zone(int normal, int tangential) { return normal > 0 ? 2 * normal - t
 //   tangential: s = mu p(c_partner), the bound of the node's normal slot (its "partner")
 //               s > 0 and |y| <= s     Stick   Lambda = y (then v = 0)
 //               otherwise              Slip    Lambda = s sign(y)
+//   in 3D a node has two tangential slots (each the other's "pair"), the law is the disk's:
+//   y_tau = (y_j, y_pair), |y_tau| its length, and Lambda_tau = proj_disk(s)(y_tau):
+//               s > 0 and |y_tau| <= s Stick   Lambda_j = y_j (then v_tau = 0)
+//               otherwise              Slip    Lambda_j = s y_j / |y_tau| (the friction force
+//                                              colinear with the slip velocity)
+//   (the pair shares its r: a projection with two r would turn the force off the slip)
 // and the natural residual of slot j is |Lambda_j - target_j| (the Lambda the piece gives).
-// A Newton step solves each slot's relation  a_j c[slot_j] + d_j m_j = h_j : the piece's
-// equation, linearized (p at the resolvent's v on Damped and Bound pieces, the friction
-// bound at the partner's velocity on Slip). A piecewise-linear p makes them exact.
+// A Newton step solves each slot's relation, the piece's equation linearized (p at the
+// resolvent's v on Damped and Bound pieces, the friction bound at the partner's velocity on
+// Slip, and on a disk's Slip the projection's derivative, its exact generalized Jacobian):
+//   sum_t a_jt c[aSlot_jt] + sum_t d_jt m[dSlot_jt] = h_j,  t < termsPerRelation,
+// one term of each in 2D (a_j c[slot_j] + d_j m_j = h_j), up to three c's and two m's on a
+// disk's Slip. A piecewise-linear p makes them exact.
 enum Piece { Free = 0, Damped = 1, Bound = 2, Stick = 3, Slip = 4 };
 
 struct Slots {
@@ -112,22 +122,26 @@ struct Slots {
   int n = 0;
   std::vector<char> normal;              // normal slot (else tangential)
   std::vector<int> partner;              // a tangential slot's normal slot, -1 if none
+  std::vector<int> pair;                 // a tangential slot's other tangential slot (3D), -1 if none
   std::vector<double> g, Kn, r, forceScale, residualWeight;
   std::vector<double> velocityScale;     // per slot, |c_free|: the size of the terms c is computed from
   double roundoff = 0;                   // 10 u / tol (set with tol): see evaluate()
   // at the last evaluate(): piece, key, y, the resolvent's v (Damped, Bound) and target
   std::vector<int> piece, key;
   std::vector<double> stress, y, velocity, target, mismatch;
-  // the relations of the pieces (relations())
+  // the relations of the pieces (relations()): slot j's terms at j * termsPerRelation + t
+  static const int termsPerRelation = 3;
   std::vector<double> a, d, h;
-  std::vector<int> slot;
+  std::vector<int> aSlot, dSlot;
 
   void resize(int count) {
     n = count;
-    normal.assign(n, 1); partner.assign(n, -1);
-    for (auto *v : {&g, &Kn, &r, &forceScale, &residualWeight, &velocityScale, &stress, &y, &velocity, &target, &mismatch, &a, &d, &h})
+    normal.assign(n, 1); partner.assign(n, -1); pair.assign(n, -1);
+    for (auto *v : {&g, &Kn, &r, &forceScale, &residualWeight, &velocityScale, &stress, &y, &velocity, &target, &mismatch, &h})
       v->assign(n, 0.);
-    piece.assign(n, 0); key.assign(n, 0); slot.assign(n, 0);
+    a.assign(termsPerRelation * n, 0.); d.assign(termsPerRelation * n, 0.);
+    piece.assign(n, 0); key.assign(n, 0);
+    aSlot.assign(termsPerRelation * n, 0); dSlot.assign(termsPerRelation * n, 0);
   }
   // the velocity bound and the force scale p(g) of slot j (a tangential slot: its node's)
   void setBound(int j, double bound) {
@@ -163,9 +177,10 @@ struct Slots {
 
   // The piece of slot j at yj = Lambda_j + rj c_j, for any rj > 0: returns the piece, sets t to the
   // stress it gives and v to the resolvent's velocity (Damped and Bound pieces; else unchanged).
-  // c: the slot velocities (a tangential slot reads its partner's). Every solver goes through
-  // here: Newton with its r_j (evaluate below), the fixed point with each slot's exact local r.
-  int resolve(int j, double yj, double rj, const double *c, double &t, double &v) const {
+  // c: the slot velocities (a tangential slot reads its partner's); yPair: y of the slot's
+  // pair (3D). Every solver goes through here: Newton with its r_j (evaluate below), the fixed
+  // point with each slot's exact local r (a 3D pair: disk() below).
+  int resolve(int j, double yj, double rj, const double *c, double &t, double &v, double yPair = 0) const {
     if (normal[j]) {
       const double pg = dampedResponse(P, g[j]);
       if (yj <= 0) { t = 0.; return Free; }
@@ -184,6 +199,11 @@ struct Slots {
       return Bound;
     }
     const double s = partner[j] >= 0 ? frictionBound(P, c[partner[j]]) : 0.;
+    if (pair[j] >= 0) {                                                  // the disk
+      const double length = std::hypot(yj, yPair);
+      t = length <= s ? yj : (length > 0 ? s * yj / length : 0.);
+      return (s > 0 && length <= s) ? Stick : Slip;
+    }
     t = std::max(-s, std::min(s, yj));
     return (s > 0 && std::fabs(yj) <= s) ? Stick : Slip;
   }
@@ -196,10 +216,13 @@ struct Slots {
   double evaluate(const double *c, const double *m) {
     double worst = 0;
     for (int j = 0; j < n; j++) {
-      const double lambda = Kn[j] * c[j] + m[j], yj = lambda + r[j] * c[j];
-      stress[j] = lambda; y[j] = yj;
+      stress[j] = Kn[j] * c[j] + m[j];
+      y[j] = stress[j] + r[j] * c[j];
+    }
+    for (int j = 0; j < n; j++) {
+      const double lambda = stress[j], yj = y[j];
       double t = 0;
-      const int p = resolve(j, yj, r[j], c, t, velocity[j]);
+      const int p = resolve(j, yj, r[j], c, t, velocity[j], pair[j] >= 0 ? y[pair[j]] : 0.);
       // a slip piece's key: the side of y, and whether the bound s is positive (t = +-s)
       key[j] = 4 * p + (p == Slip ? 2 * (yj > 0) + (t != 0) : 0);
       piece[j] = p;
@@ -225,6 +248,12 @@ struct Slots {
     for (int j = 0; j < n; j++) {
       const double slack = 10 * DBL_EPSILON * (std::fabs(c[j]) + velocityScale[j]);
       const double inward = c[j] > 0 ? c[j] - slack : c[j] + slack;    // c moved by its round-off toward 0
+      if (piece[j] == Stick && pair[j] >= 0) {                         // the disk: the length of v_tau
+        const double other = c[pair[j]], otherSlack = 10 * DBL_EPSILON * (std::fabs(other) + velocityScale[pair[j]]);
+        const double length = std::hypot(std::max(std::fabs(c[j]) - slack, 0.), std::max(std::fabs(other) - otherSlack, 0.));
+        if (tangentialStatus(length, g[j]) != 0) count++;
+        continue;
+      }
       if (piece[j] == Stick && tangentialStatus(std::fabs(c[j]) <= slack ? 0. : inward, g[j]) != 0) count++;
       if (piece[j] == Bound && !P.penalty && normalStatus(c[j] + slack, g[j]) != 2) count++;
     }
@@ -236,9 +265,12 @@ struct Slots {
     return std::sqrt(s);
   }
 
-  // the relation a_j c[slot_j] + d_j m_j = h_j of each slot's piece, at the last evaluate()
+  // the relations of each slot's piece, at the last evaluate()
   void relations(const double *c) {
+    const int T = termsPerRelation;
     for (int j = 0; j < n; j++) {
+      for (int t = 1; t < T; t++) { a[T * j + t] = 0; d[T * j + t] = 0; aSlot[T * j + t] = j; dSlot[T * j + t] = j; }
+      if (piece[j] == Slip && pair[j] >= 0) { diskSlip(j, c); continue; }
       double aj = 0, dj = 1, hj = 0;
       int sj = j;
       const double v = velocity[j];
@@ -266,8 +298,27 @@ struct Slots {
           }
           break;
       }
-      a[j] = aj; d[j] = dj; h[j] = hj; slot[j] = sj;
+      a[T * j] = aj; d[T * j] = dj; h[j] = hj; aSlot[T * j] = sj; dSlot[T * j] = j;
     }
+  }
+  // A disk's Slip, Lambda_tau = s(c_p) y/|y| with y = m_tau + r c_tau (Kn = 0 on tangential
+  // slots), linearized: with e = y/|y| and Pr = s/|y| (I - e e'), the derivative of the
+  // projection, row j of  (I - Pr) m_tau - r Pr c_tau - e s'(c_p) c_p = e (s - s'(c_p) c_p)
+  // (its right-hand side: (I - Pr) m - r Pr c = m - Pr y = m, as Pr y = 0).
+  void diskSlip(int j, const double *c) {
+    const int T = termsPerRelation, q = pair[j], p = partner[j];
+    const double length = std::hypot(y[j], y[q]);
+    const double cp = p >= 0 ? c[p] : 0., s = p >= 0 ? frictionBound(P, cp) : 0.;
+    const double slope = p >= 0 ? frictionBoundSlope(P, cp) : 0.;
+    const double ej = length > 0 ? y[j] / length : 0., eq = length > 0 ? y[q] / length : 0.;
+    const double scale = length > 0 ? s / length : 0.;
+    const double Pjj = scale * (1 - ej * ej), Pjq = -scale * ej * eq;
+    d[T * j] = 1 - Pjj; dSlot[T * j] = j;
+    d[T * j + 1] = -Pjq; dSlot[T * j + 1] = q;
+    a[T * j] = -r[j] * Pjj; aSlot[T * j] = j;
+    a[T * j + 1] = -r[j] * Pjq; aSlot[T * j + 1] = q;
+    a[T * j + 2] = p >= 0 ? -ej * slope : 0.; aSlot[T * j + 2] = p >= 0 ? p : j;
+    h[j] = ej * (s - slope * cp);
   }
 };
 

@@ -459,7 +459,7 @@ expect_failure "option without value" 2 "option -dt needs a value" -dt
 expect_failure "repeated option" 2 "option -nx is given twice" -nx 8 -nx 9
 expect_failure "real not a number" 2 "option -dt must be a real number, got 'abc'" -dt abc
 expect_failure "real half a number" 2 "option -E must be a real number, got '1e'" -E 1e
-expect_failure "a 3D mesh" 3 "node 4 has z = 1 and the first node z = 0: the mesh is not flat \\(a 3D mesh\\?\\); the suite solves 2D bodies only" -mesh tests/data/tetrahedron.msh
+expect_failure "a 3D mesh for a 2D scene" 3 "option -mesh: 'tests/data/tetrahedron.msh' is a 3D mesh, but the scene .*paper.scene is 2D \\(geometry rectangle, vectors of two components" -mesh tests/data/tetrahedron.msh
 expect_failure "a choice out of its list" 2 "option -plane = 'Strain' is not one of stress\|strain" -plane Strain
 expect_failure "real overflows" 2 "option -load = 1e999 is not a finite number" -load 1e999
 expect_failure "integer not whole" 2 "option -nx must be a whole number, got '1.5'" -nx 1.5

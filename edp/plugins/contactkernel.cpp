@@ -27,11 +27,13 @@
 //       2 table), alpha
 //   contactKernelDampingTable(real[int] r, real[int] p)   the points of the table family
 //   contactKernelNodes(real[int] x, real[int] w, real[int] g, int[int] normalSlot,
-//       int[int] tangentSlot)  the contact nodes (sorted by x): weight, velocity bound, slots
-//       (-1: none); returns 1 if the law of contactlaw.hpp is unusable (checkLaw; the
+//       int[int] tangentSlot, int[int] tangentSlot2)  the contact nodes: weight, velocity bound,
+//       slots (-1: none; tangentSlot2, the second tangential slot of a 3D node, makes a pair
+//       with tangentSlot under the disk law); returns 1 if the law of contactlaw.hpp is unusable (checkLaw; the
 //       reason is printed on stderr)
-//   contactKernelNodeVelocity(matrix O)   v -> (v_nu, v_tau) of every node (rows 2i, 2i + 1):
-//       what the nodes report (a node may have fewer slots than velocities)
+//   contactKernelNodeVelocity(matrix O)   v -> (v_nu, v_tau) of every node (rows 2i, 2i + 1;
+//       in 3D (v_nu, v_tau, v_tau2), rows 3i, 3i + 1, 3i + 2): what the nodes report (a node may
+//       have fewer slots than velocities)
 //   contactKernelDampingSlope(real[int] Kn)   Kn per slot (p'(g) on normal slots), folded into S
 //   contactKernelFactorize(matrix S, matrix C)   returns 0, or 1 (S not positive definite),
 //       2 (CHOLMOD failed)
@@ -53,12 +55,13 @@
 //   contactKernelHistory(real[int] info, real[int] history, real[int] contactHistory)   the
 //       arrays into which each contactKernelRecord then also writes its step's row
 //       (writeHistoryRow), with the iterations and residual of the solvers' info
-//   contactKernelAppendNodes(string file, int n, real t, real[int] x, real[int] y, real[int,int] table)
-//       appends step n's rows of contact_nodes_history.txt (table: contactKernelNodal's), through a
+//   contactKernelAppendNodes(string file, int n, real t, real[int] x, real[int] y, real[int] z, real[int,int] table)
+//       appends step n's rows of contact_nodes_history.txt (table: contactKernelNodal's; z, v_tau2 and
+//       lambda_tau2 in 3D), through a
 //       stream kept open until contactKernelCloseNodes() (1 if the file was not written whole)
 //   contactKernelNodal(real[int] v, real[int] Lambda, real[int,int] table)  per node: v_nu,
 //       v_tau, p_nu, lambda_nu, lambda_tau, normal_status, tangential_status, friction_bound,
-//       force scale p(g), zone
+//       force scale p(g), zone, v_tau2, lambda_tau2 (0 in 2D)
 //   contactKernelNewton(real[int] cFree, real[int] c, real[int] m, real[int] info)  one step's
 //       Newton from (c, m); returns the iterations, or -1; info = [residual, iterations,
 //       unresolved statuses (Slots::unresolvedStatuses), 1 if the fixed point stalled]
@@ -67,7 +70,9 @@
 //       FP.window and FP.omega below)
 //   contactKernelNewtonStep(real[int] rhs, real[int] v, real[int] c, real[int] m, real[int] info)
 //   contactKernelFixedPointStep(the same)   Free, the solver, then Finish, in one call
-//   contactLawRelations(real[int] c, real[int] a, real[int] d, real[int] h, int[int] slot)
+//   contactLawRelations(real[int] c, real[int] a, real[int] d, real[int] h, int[int] aSlot,
+//       int[int] dSlot)  the relations of the pieces at the last evaluation: term t of slot j at
+//       3 j + t (Slots::termsPerRelation), sum_t a c[aSlot] + d m[dSlot] = h_j
 //   contactNewtonStart(real[int] cFree, real[int] c, real[int] m, real[int] info)   the start of
 //       a Newton step (newtonStart): logs iteration 0; returns the natural residual at (c, m);
 //       info = [that residual, 1, the merit the first iterate must lower]
@@ -892,10 +897,12 @@ long closeNodes() {
   return ok && !nodesStream.fail() ? 0 : 1;
 }
 long appendNodes(string *const &path, const long &n, const double &t, KN<double> *const &px, KN<double> *const &py,
-                 KNM<double> *const &ptable) {
-  KN<double> &x = *px, &y = *py;
+                 KN<double> *const &pz, KNM<double> *const &ptable) {
+  KN<double> &x = *px, &y = *py, &z = *pz;
   KNM<double> &table = *ptable;
   if (x.N() != y.N() || table.N() != x.N() || table.M() < 10) ExecError("contactKernelAppendNodes: wrong argument sizes");
+  const bool three = N.rowsPerNode == 3;               // 3D: z after y, v_tau2 and lambda_tau2 after the zone
+  if (three && (z.N() != x.N() || table.M() < 12)) ExecError("contactKernelAppendNodes: wrong argument sizes");
   if (nodesPath != *path) {
     if (closeNodes()) return 1;
     nodesStream.open(*path, std::ios::app);
@@ -905,8 +912,11 @@ long appendNodes(string *const &path, const long &n, const double &t, KN<double>
   std::ofstream &f = nodesStream;
   for (int i = 0; i < (int)x.N(); i++) {
     f << n << " " << t << " " << i << " " << x[i] << " " << y[i];
+    if (three) f << " " << z[i];
     for (int k = 0; k < 7; k++) f << " " << table(i, k);
-    f << " " << std::lround(table(i, 9)) << "\n";
+    f << " " << std::lround(table(i, 9));
+    if (three) f << " " << table(i, 10) << " " << table(i, 11);
+    f << "\n";
   }
   return f ? 0 : 1;
 }
@@ -950,8 +960,9 @@ long recordStart(KN<double> *const &pv0, KN<double> *const &pu0, KN<double> *con
 // Mv = M v_{n-1}, Bu = B u_{n-1}. Out: Mv = M v_n and Bu = B u_n (for the next right-hand
 // side) and record = [kinetic, elastic, numerical_dissipation, viscous_dissipation,
 // contact_dissipation, external_work, energy_residual, kinetic_jump, elastic_jump,
-// normal_force, tangential_force, the five zone counts, x_B, x_C] (the columns of history.txt
-// and contact_history.txt; 1e300 for an x_B or x_C that does not exist). The discrete energy
+// normal_force, tangential_force, the five zone counts, x_B, x_C, tangential_force2] (the columns
+// of history.txt and contact_history.txt; 1e300 for an x_B or x_C that does not exist; the
+// tangential forces sum W lambda_tau and W lambda_tau2, the second 0 in 2D). The discrete energy
 // balance (docs/design.md, section "Energy identity"), test function w = v_n:
 //   E_n - E_{n-1} + 1/2 m(v_n - v_{n-1}) + k^2/2 b(v_n) + k a(v_n) + k (C'W Lam)'v_n = k f_n'v_n
 void writeHistoryRow(const KN<double> &rec);
@@ -984,7 +995,7 @@ long stepRecord(KN<double> *const &pv, KN<double> *const &pu, KN<double> *const 
   slotVelocities(pv0, cv);
   double contact = 0;
   for (int j = 0; j < F.nc; j++) contact += N.weight[j] * Lam[j] * cv[j];
-  if (rec.N() != 18) rec.resize(18);
+  if (rec.N() != 19) rec.resize(19);
   const double kinetic = 0.5 * vMv, elastic = 0.5 * uBu, kineticJump = 0.5 * dvMdv, elasticJump = 0.5 * k * k * vBv;
   const double viscous = k * vAv, contactWork = k * contact, external = k * fv;
   const double numerical = kineticJump + elasticJump;
@@ -997,7 +1008,7 @@ long stepRecord(KN<double> *const &pv, KN<double> *const &pu, KN<double> *const 
   rec[8] = elasticJump;
   std::vector<double> lam = copyOf(Lam), ov;
   nodeVelocities(pv0, cv, ov);
-  double normalForce = 0, tangentialForce = 0, xB = 1e300, xC = 1e300;
+  double normalForce = 0, tangentialForce = 0, tangentialForce2 = 0, xB = 1e300, xC = 1e300;
   long zones[5] = {0, 0, 0, 0, 0};
   for (size_t i = 0; i < N.nodeX.size(); i++) {
     const NodeValues s = nodeValues(i, ov.data(), lam.data());
@@ -1006,17 +1017,18 @@ long stepRecord(KN<double> *const &pv, KN<double> *const &pu, KN<double> *const 
     if (s.normal > 0 && s.tangential == 0) xC = std::min(xC, N.nodeX[i]);
     normalForce += N.nodeW[i] * s.pn;
     tangentialForce += N.nodeW[i] * s.lt;
+    tangentialForce2 += N.nodeW[i] * s.lt2;
   }
   rec[9] = normalForce; rec[10] = tangentialForce;
   for (int z = 0; z < 5; z++) rec[11 + z] = zones[z];
-  rec[16] = xB; rec[17] = xC;
+  rec[16] = xB; rec[17] = xC; rec[18] = tangentialForce2;
   writeHistoryRow(rec);
   return std::isfinite(balance) ? 0 : 1;
 }
 
 // The history arrays the record writes into (contactKernelHistory): row n of history
 // (12 columns: t, iterations, residual, then the record's 0..8) and of contactHistory (10: t,
-// then the record's 9..17) at the n-th contactKernelRecord since contactKernelRecordStart
+// then the record's 9..17; 11 in 3D, with the record's 18) at the n-th contactKernelRecord since contactKernelRecordStart
 // (t = n k), the iterations and residual from info (the solvers' [residual, iterations, ...]).
 // Arrays of the script, kept by address: sized before, not resized while the record runs.
 // One call a step instead of a line per column (each line costs the interpreter about 1 us).
@@ -1029,15 +1041,15 @@ long historyArrays(KN<double> *const &pinfo, KN<double> *const &phistory, KN<dou
 void writeHistoryRow(const KN<double> &rec) {
   if (!HA.history) return;
   KN<double> &info = *HA.info, &history = *HA.history, &contactHistory = *HA.contactHistory;
-  const long n = ++RC.step;
-  if (info.N() < 2 || history.N() < 12 * n || contactHistory.N() < 10 * n)
+  const long n = ++RC.step, columns = N.rowsPerNode == 3 ? 11 : 10;
+  if (info.N() < 2 || history.N() < 12 * n || contactHistory.N() < columns * n)
     ExecError("contactKernelRecord: the history arrays hold fewer rows than the steps recorded");
   const double t = n * SP.dt;
-  const long h = 12 * (n - 1), c = 10 * (n - 1);
+  const long h = 12 * (n - 1), c = columns * (n - 1);
   history[h] = t; history[h + 1] = info[1]; history[h + 2] = info[0];
   for (int k = 0; k < 9; k++) history[h + 3 + k] = rec[k];
   contactHistory[c] = t;
-  for (int k = 0; k < 9; k++) contactHistory[c + 1 + k] = rec[9 + k];
+  for (int k = 0; k < columns - 1; k++) contactHistory[c + 1 + k] = rec[9 + k];
 }
 
 // ---------------------------------------------------------------- Newton
@@ -1828,7 +1840,7 @@ static void Load_Init() {
   Global.Add("contactKernelNodal", "(", new OneOperator3_<long, KN<double> *, KN<double> *, KNM<double> *>(nodal));
   Global.Add("contactKernelCloseNodes", "(", new OneOperator0<long>(closeNodes));
   Global.Add("contactKernelAppendNodes", "(",
-             new OneOperator6_<long, string *, long, double, KN<double> *, KN<double> *, KNM<double> *>(appendNodes));
+             new OneOperator7_<long, string *, long, double, KN<double> *, KN<double> *, KN<double> *, KNM<double> *>(appendNodes));
   Global.Add("contactKernelNewton", "(", new OneOperator4_<long, KN<double> *, KN<double> *, KN<double> *, KN<double> *>(newton));
   Global.Add("contactKernelFixedPoint", "(", new OneOperator4_<long, KN<double> *, KN<double> *, KN<double> *, KN<double> *>(fixedPoint));
   Global.Add("contactKernelNewtonStep", "(", new OneOperator5_<long, KN<double> *, KN<double> *, KN<double> *, KN<double> *, KN<double> *>(wholeStep<newton>));

@@ -35,13 +35,16 @@
 //   runRename(string from, string to)    0, or 1
 //   runMakeFolders(string path)          mkdir -p; 0, or 1
 //   runFolderFinish()                    run.complete, then OUT.partial.<pid> -> OUT
-//   runGmsh(string geo, string out, string numbers)  gmsh -2 -format msh22 -v 0
+//   runGmsh(string geo, string out, string numbers)  gmsh -2 (-3 for a 3D .geo) -format msh22 -v 0
 //       -setnumber NAME VALUE ... geo -o out; its exit status (127: no gmsh)
 //   runCheckMesh(string in, string out, string required, string dirichlet, string what,
 //       int fatal)   check a gmsh MSH 2.2 file before FreeFEM reads it (see checkMesh below)
 //       and write it to out, clockwise triangles reoriented; on a problem: exit 3 with
 //       "what: why" (fatal), or return 1; exit 7 if out cannot be written
 //   runMeshExtentRatio()                 1e8: the largest extent / shortest edge a mesh may have
+//   runMeshDimension(string path)        3 if a mesh file has tetrahedra, 2 if not, 0 if unreadable
+//   runGeoDimension(string path)         3 if a .geo defines a Physical Volume, else 2
+//   runRestartWith(string arg)           this program again in this process, one argument more
 #include "ff++.hpp"
 #include "AFunction_ext.hpp"
 #include <algorithm>
@@ -60,6 +63,7 @@
 #include <fstream>
 #include <iostream>
 #include <map>
+#include <initializer_list>
 #include <set>
 #include <sstream>
 #include <spawn.h>
@@ -713,8 +717,10 @@ int spawnAndWait(const std::string &file, const std::vector<std::string> &args, 
   return WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
 }
 
+long runGeoDimension(string *const &path);
 long runGmsh(string *const &geo, string *const &out, string *const &numbers) {
-  std::vector<std::string> args = {"gmsh", "-2", "-format", "msh22", "-v", "0"};
+  string geoPath = *geo;
+  std::vector<std::string> args = {"gmsh", runGeoDimension(&geoPath) == 3 ? "-3" : "-2", "-format", "msh22", "-v", "0"};
   std::stringstream in(*numbers);
   std::string name, value;
   while (in >> name >> value) { args.push_back("-setnumber"); args.push_back(name); args.push_back(value); }
@@ -826,13 +832,25 @@ std::array<long, 4> meetingBoundaryEdges(const std::vector<Point> &xy, const std
   return none;
 }
 
-void checkMesh(const std::string &path, const std::string &outPath, const std::string &required,
-               const std::string &dirichlet) {
+// The text of a gmsh MSH 2.2 ASCII file: its lines (line ends and trailing blanks dropped, a
+// UTF-8 byte order mark skipped), where its $Nodes and $Elements sections start and their counts
+struct MeshText {
+  std::vector<std::string> lines;
+  long nodesAt = -1, elementsAt = -1, nodeCount = 0, elementCount = 0;
+};
+std::vector<std::string> fieldsOf(const std::string &text) {
+  std::vector<std::string> words;
+  std::stringstream in(text);
+  std::string w;
+  while (in >> w) words.push_back(w);
+  return words;
+}
+MeshText readMeshText(const std::string &path) {
+  MeshText M;
+  std::vector<std::string> &lines = M.lines;
   std::ifstream f(path, std::ios::binary);
   if (!f) throw MeshProblem{"cannot read the file"};
-  std::vector<std::string> lines;
   std::string line;
-  // line ends and trailing blanks do not count; a UTF-8 byte order mark is skipped
   auto trimmed = [](std::string text) {
     while (!text.empty() && (text.back() == '\r' || text.back() == ' ' || text.back() == '\t')) text.pop_back();
     return text;
@@ -843,13 +861,6 @@ void checkMesh(const std::string &path, const std::string &outPath, const std::s
   if (trimmed(line) != "$MeshFormat") throw MeshProblem{"not a gmsh mesh file (it does not start with $MeshFormat)"};
   lines.push_back("$MeshFormat");
   while (std::getline(f, line)) lines.push_back(trimmed(line));
-  auto fieldsOf = [](const std::string &text) {
-    std::vector<std::string> words;
-    std::stringstream in(text);
-    std::string w;
-    while (in >> w) words.push_back(w);
-    return words;
-  };
   auto section = [&](const std::string &name) -> long {
     for (size_t i = 0; i < lines.size(); i++) if (lines[i] == "$" + name) return (long)i;
     return -1;
@@ -859,10 +870,10 @@ void checkMesh(const std::string &path, const std::string &outPath, const std::s
   const std::vector<std::string> header = fieldsOf(lines[format + 1]);
   if (header.size() < 3) throw MeshProblem{"not a gmsh mesh file (a $MeshFormat section without version)"};
   if (header[0].compare(0, 2, "2.") != 0 && header[0] != "2")
-    throw MeshProblem{"gmsh format " + header[0] + ", not 2.2: re-export it with: gmsh -2 -format msh22 FILE.geo -o FILE.msh"};
-  if (header[1] != "0") throw MeshProblem{"binary MSH file: re-export it as text with: gmsh -2 -format msh22 FILE.geo -o FILE.msh"};
-  const long nodesAt = section("Nodes"), elementsAt = section("Elements");
-  if (nodesAt < 0 || elementsAt < 0) throw MeshProblem{"truncated file: no $Nodes or $Elements section"};
+    throw MeshProblem{"gmsh format " + header[0] + ", not 2.2: re-export it with: gmsh -2 -format msh22 FILE.geo -o FILE.msh (-3 for a 3D body)"};
+  if (header[1] != "0") throw MeshProblem{"binary MSH file: re-export it as text with: gmsh -2 -format msh22 FILE.geo -o FILE.msh (-3 for a 3D body)"};
+  M.nodesAt = section("Nodes"); M.elementsAt = section("Elements");
+  if (M.nodesAt < 0 || M.elementsAt < 0) throw MeshProblem{"truncated file: no $Nodes or $Elements section"};
   auto count = [&](long at, const char *what) {
     if (at + 1 >= (long)lines.size()) throw MeshProblem{std::string("truncated file: no count after $") + what};
     char *end = nullptr;
@@ -873,21 +884,100 @@ void checkMesh(const std::string &path, const std::string &outPath, const std::s
                         "(a truncated file?): no $End" + what + " there"};
     return n;
   };
+  M.nodeCount = count(M.nodesAt, "Nodes");
+  M.elementCount = count(M.elementsAt, "Elements");
+  return M;
+}
+
+// one line of $Nodes, "id x y z": the id fits FreeFEM, is new (entered in index with the next
+// position), the coordinates finite
+void readNode(const std::string &text, std::map<long, long> &index, long &id, double &x, double &y, double &z) {
+  std::stringstream in(text);
+  std::string rest;
+  if (!(in >> id >> x >> y >> z) || (in >> rest)) throw MeshProblem{"$Nodes: cannot read the node line '" + text + "'"};
+  if (id > 2147483647L || id < -2147483647L) throw MeshProblem{"node id " + std::to_string(id) + " does not fit FreeFEM's 32-bit ids"};
+  if (!std::isfinite(x) || !std::isfinite(y) || !std::isfinite(z)) throw MeshProblem{"node " + std::to_string(id) + " has a non-finite coordinate"};
+  if (index.count(id)) throw MeshProblem{"node " + std::to_string(id) + " is defined twice"};
+}
+
+// an element line's numbers v (id, type, tag count, tags, nodes): its tags and node positions
+// into e, checked (the count, defined nodes, none twice); returns its nodes sorted
+std::vector<long> readElementNodes(Element &e, const std::vector<long> &v, long nodes, const std::map<long, long> &index) {
+  const long ntags = v[2];
+  if (ntags < 0 || (long)v.size() != 3 + ntags + nodes)
+    throw MeshProblem{"element " + std::to_string(e.id) + ": " + std::to_string(v.size()) + " numbers, but its "
+                      + std::to_string(ntags) + " tags and " + std::to_string(nodes) + " nodes need " + std::to_string(3 + ntags + nodes)};
+  e.tags.assign(v.begin() + 3, v.begin() + 3 + ntags);
+  for (long k = 0; k < nodes; k++) {
+    const long id = v[3 + ntags + k];
+    if (!index.count(id)) throw MeshProblem{"element " + std::to_string(e.id) + " uses node " + std::to_string(id) + ", which is not defined"};
+    e.nodes.push_back(index.at(id));
+  }
+  std::vector<long> key = e.nodes;
+  std::sort(key.begin(), key.end());
+  if (std::adjacent_find(key.begin(), key.end()) != key.end())
+    throw MeshProblem{"element " + std::to_string(e.id) + " uses a node twice"};
+  return key;
+}
+
+// the labels the suite needs ("LABEL ROLE ..." in required), then the scene's Dirichlet labels,
+// among the labels of the boundary elements (lines in 2D, triangles in 3D: element, physical)
+void requireLabels(const std::set<long> &labels, const std::string &required, const std::string &dirichlet,
+                   const std::string &element, const std::string &physical) {
+  std::stringstream in(required);
+  std::string label, role, missing, roles;
+  while (in >> label >> role) {
+    roles += (roles.empty() ? "" : ", ") + label + " " + role;
+    if (!labels.count(std::atol(label.c_str()))) missing += " " + label;
+  }
+  if (!missing.empty()) throw MeshProblem{"no boundary " + element + " with physical tag" + missing + " (Physical " + physical + " " + roles + " are required)"};
+  std::stringstream scene(dirichlet);
+  while (scene >> label)
+    if (std::atol(label.c_str()) >= 0 && !labels.count(std::atol(label.c_str())))
+      throw MeshProblem{"the scene's dirichlet label " + label + " is not a physical " + (physical == "Curve" ? "curve" : "surface") + " of the mesh"};
+}
+// the mesh FreeFEM will read: the nodes (ids, x y z) and the groups of elements, on the disk
+void writeCheckedMesh(const std::string &outPath, const std::vector<long> &idOf, const std::vector<std::array<double, 3>> &xyz,
+                      std::initializer_list<std::vector<Element> *> groups) {
+  size_t elements = 0;
+  for (auto *group : groups) elements += group->size();
+  std::ofstream o(outPath, std::ios::binary | std::ios::trunc);
+  o.precision(17);
+  o << "$MeshFormat\n2.2 0 8\n$EndMeshFormat\n$Nodes\n" << idOf.size() << "\n";
+  for (size_t i = 0; i < idOf.size(); i++) o << idOf[i] << " " << xyz[i][0] << " " << xyz[i][1] << " " << xyz[i][2] << "\n";
+  o << "$EndNodes\n$Elements\n" << elements << "\n";
+  for (auto *group : groups)
+    for (Element &e : *group) {
+      o << e.id << " " << e.type << " " << e.tags.size();
+      for (long t : e.tags) o << " " << t;
+      for (long k : e.nodes) o << " " << idOf[k];
+      o << "\n";
+    }
+  o << "$EndElements\n";
+  o.flush();
+  o.close();
+  if (!o) throw WriteProblem{"cannot write the checked mesh to " + outPath + " (is the disk full?)"};
+  int fd = open(outPath.c_str(), O_RDONLY);         // on the disk
+  const bool synced = fd >= 0 && fsync(fd) == 0;
+  if (fd >= 0) close(fd);
+  if (!synced) throw WriteProblem{"cannot write the checked mesh to " + outPath + ": " + errorText()};
+}
+
+void checkMesh(const std::string &path, const std::string &outPath, const std::string &required,
+               const std::string &dirichlet) {
+  MeshText M = readMeshText(path);
+  const std::vector<std::string> &lines = M.lines;
+  const long nodesAt = M.nodesAt, elementsAt = M.elementsAt;
   // nodes: id x y z, ids unique, coordinates finite, one plane
-  const long nodeCount = count(nodesAt, "Nodes");
+  const long nodeCount = M.nodeCount;
   std::map<long, long> index;
   std::vector<std::array<double, 2>> xy(nodeCount);
   double xmin = INFINITY, xmax = -INFINITY, ymin = INFINITY, ymax = -INFINITY, z0 = 0;
   for (long i = 0; i < nodeCount; i++) {
     const std::string &text = lines[nodesAt + 2 + i];
-    std::stringstream in(text);
     long id;
     double x, y, z;
-    std::string rest;
-    if (!(in >> id >> x >> y >> z) || (in >> rest)) throw MeshProblem{"$Nodes: cannot read the node line '" + text + "'"};
-    if (id > 2147483647L || id < -2147483647L) throw MeshProblem{"node id " + std::to_string(id) + " does not fit FreeFEM's 32-bit ids"};
-    if (!std::isfinite(x) || !std::isfinite(y) || !std::isfinite(z)) throw MeshProblem{"node " + std::to_string(id) + " has a non-finite coordinate"};
-    if (index.count(id)) throw MeshProblem{"node " + std::to_string(id) + " is defined twice"};
+    readNode(text, index, id, x, y, z);
     if (i == 0) z0 = z;
     if (z != z0)
       throw MeshProblem{"node " + std::to_string(id) + " has z = " + numberText(z) + " and the first node z = " + numberText(z0) +
@@ -898,7 +988,7 @@ void checkMesh(const std::string &path, const std::string &outPath, const std::s
     xmin = std::min(xmin, x); xmax = std::max(xmax, x); ymin = std::min(ymin, y); ymax = std::max(ymax, y);
   }
   // elements: 2-node lines (boundary labels) and 3-node triangles; points are ignored
-  const long elementCount = count(elementsAt, "Elements");
+  const long elementCount = M.elementCount;
   std::vector<Element> triangles, edges;
   std::map<std::vector<long>, long> seenTriangles, seenEdges;
   for (long i = 0; i < elementCount; i++) {
@@ -911,7 +1001,6 @@ void checkMesh(const std::string &path, const std::string &outPath, const std::s
     for (auto &s : w) { v.push_back(std::strtol(s.c_str(), &end, 10)); ok = ok && end && !*end; }
     if (!ok) throw MeshProblem{"$Elements: cannot read the element line '" + text + "'"};
     e.id = v[0]; e.type = (int)v[1];
-    const long ntags = v[2];
     for (long number : v)
       if (number > 2147483647L || number < -2147483647L)
         throw MeshProblem{"element " + std::to_string(e.id) + ": the number " + std::to_string(number) + " does not fit FreeFEM's 32-bit ids and tags"};
@@ -925,20 +1014,7 @@ void checkMesh(const std::string &path, const std::string &outPath, const std::s
     if (!nodesOfType.count(e.type))
       throw MeshProblem{"element " + std::to_string(e.id) + " has gmsh type " + std::to_string(e.type) +
                         ": only 3-node triangles (2), 2-node lines (1) and points (15) are supported (a 3D mesh?)"};
-    const long nodes = nodesOfType.at(e.type);
-    if (ntags < 0 || (long)v.size() != 3 + ntags + nodes)
-      throw MeshProblem{"element " + std::to_string(e.id) + ": " + std::to_string(v.size()) + " numbers, but its "
-                        + std::to_string(ntags) + " tags and " + std::to_string(nodes) + " nodes need " + std::to_string(3 + ntags + nodes)};
-    e.tags.assign(v.begin() + 3, v.begin() + 3 + ntags);
-    for (long k = 0; k < nodes; k++) {
-      const long id = v[3 + ntags + k];
-      if (!index.count(id)) throw MeshProblem{"element " + std::to_string(e.id) + " uses node " + std::to_string(id) + ", which is not defined"};
-      e.nodes.push_back(index.at(id));
-    }
-    std::vector<long> key = e.nodes;
-    std::sort(key.begin(), key.end());
-    if (std::adjacent_find(key.begin(), key.end()) != key.end())
-      throw MeshProblem{"element " + std::to_string(e.id) + " uses a node twice"};
+    std::vector<long> key = readElementNodes(e, v, nodesOfType.at(e.type), index);
     if (e.type == 2) {
       if (seenTriangles.count(key)) throw MeshProblem{"triangle " + std::to_string(e.id) + " repeats triangle " + std::to_string(seenTriangles[key])};
       seenTriangles[key] = e.id;
@@ -1061,40 +1137,167 @@ void checkMesh(const std::string &path, const std::string &outPath, const std::s
     if (!labelled.count(edge))
       throw MeshProblem{"the boundary edge " + edgeText(edge[0], edge[1]) + " has no line element: give every boundary curve a "
                         "Physical Curve (a gap in the boundary, a crack or a hanging node leaves such an edge)"};
-  // the labels the suite needs ("LABEL ROLE ..."), then the scene's Dirichlet labels
-  std::stringstream in(required);
-  std::string label, role, missing, roles;
-  while (in >> label >> role) {
-    roles += (roles.empty() ? "" : ", ") + label + " " + role;
-    if (!labels.count(std::atol(label.c_str()))) missing += " " + label;
-  }
-  if (!missing.empty()) throw MeshProblem{"no boundary line with physical tag" + missing + " (Physical Curve " + roles + " are required)"};
-  std::stringstream scene(dirichlet);
-  while (scene >> label)
-    if (std::atol(label.c_str()) >= 0 && !labels.count(std::atol(label.c_str())))
-      throw MeshProblem{"the scene's dirichlet label " + label + " is not a physical curve of the mesh"};
+  requireLabels(labels, required, dirichlet, "line", "Curve");
   // the mesh FreeFEM will read: the same nodes and elements, triangles counterclockwise
-  std::ofstream o(outPath, std::ios::binary | std::ios::trunc);
-  o.precision(17);
-  o << "$MeshFormat\n2.2 0 8\n$EndMeshFormat\n$Nodes\n" << nodeCount << "\n";
-  for (long i = 0; i < nodeCount; i++) o << idOf[i] << " " << xy[i][0] << " " << xy[i][1] << " " << z0 << "\n";
-  o << "$EndNodes\n$Elements\n" << edges.size() + triangles.size() << "\n";
-  for (auto *group : {&edges, &triangles})
-    for (Element &e : *group) {
-      o << e.id << " " << e.type << " " << e.tags.size();
-      for (long t : e.tags) o << " " << t;
-      for (long k : e.nodes) o << " " << idOf[k];
-      o << "\n";
-    }
-  o << "$EndElements\n";
-  o.flush();
-  o.close();
-  if (!o) throw WriteProblem{"cannot write the checked mesh to " + outPath + " (is the disk full?)"};
-  int fd = open(outPath.c_str(), O_RDONLY);         // on the disk
-  const bool synced = fd >= 0 && fsync(fd) == 0;
-  if (fd >= 0) close(fd);
-  if (!synced) throw WriteProblem{"cannot write the checked mesh to " + outPath + ": " + errorText()};
+  std::vector<std::array<double, 3>> xyz(nodeCount);
+  for (long i = 0; i < nodeCount; i++) xyz[i] = {xy[i][0], xy[i][1], z0};
+  writeCheckedMesh(outPath, idOf, xyz, {&edges, &triangles});
   (void)reoriented;
+}
+
+// A 3D mesh: 4-node tetrahedra (gmsh type 4) and 3-node boundary triangles (type 2, their
+// physical tag the label); points and lines are dropped. Refused: bad ids, flat or inverted
+// tetrahedra the reorientation cannot fix (zero volume), repeated tetrahedra, nodes of no
+// tetrahedron, a face shared by more than two tetrahedra, pieces, a labelled triangle that is
+// not a face, a used label inside the body, a boundary face without a triangle, missing labels.
+// Written out with every tetrahedron positively oriented.
+void checkMesh3(const std::string &path, const std::string &outPath, const std::string &required,
+                const std::string &dirichlet) {
+  MeshText M = readMeshText(path);
+  const std::vector<std::string> &lines = M.lines;
+  std::map<long, long> index;
+  std::vector<std::array<double, 3>> xyz(M.nodeCount);
+  std::vector<long> idOf(M.nodeCount);
+  for (long i = 0; i < M.nodeCount; i++) {
+    const std::string &text = lines[M.nodesAt + 2 + i];
+    long id;
+    double x, y, z;
+    readNode(text, index, id, x, y, z);
+    index[id] = i;
+    idOf[i] = id;
+    xyz[i] = {x, y, z};
+  }
+  std::vector<Element> tets, faces;
+  std::set<std::vector<long>> seenTets;
+  for (long i = 0; i < M.elementCount; i++) {
+    const std::string &text = lines[M.elementsAt + 2 + i];
+    std::vector<std::string> w = fieldsOf(text);
+    std::vector<long> v;
+    char *end = nullptr;
+    bool ok = w.size() >= 3;
+    for (auto &t : w) { v.push_back(std::strtol(t.c_str(), &end, 10)); ok = ok && end && !*end; }
+    if (!ok) throw MeshProblem{"$Elements: cannot read the element line '" + text + "'"};
+    Element e;
+    e.id = v[0]; e.type = (int)v[1];
+    const std::map<int, int> nodesOfType = {{1, 2}, {2, 3}, {4, 4}, {15, 1}};
+    if (!nodesOfType.count(e.type))
+      throw MeshProblem{"element " + std::to_string(e.id) + " has gmsh type " + std::to_string(e.type) +
+                        ": a 3D mesh takes 4-node tetrahedra (4), 3-node boundary triangles (2), lines (1) and points (15) only "
+                        "(order 1, no hexahedra or prisms: mesh without Recombine)"};
+    std::vector<long> key = readElementNodes(e, v, nodesOfType.at(e.type), index);
+    if (e.type == 1 || e.type == 15) continue;
+    if (e.tags.empty()) e.tags.push_back(0);
+    if (e.type == 4) {
+      if (seenTets.count(key)) throw MeshProblem{"tetrahedron " + std::to_string(e.id) + " is listed twice"};
+      seenTets.insert(key);
+      tets.push_back(e);
+    }
+    else faces.push_back(e);
+  }
+  if (tets.empty()) throw MeshProblem{"no tetrahedron (does the .geo define a Physical Volume? mesh it with gmsh -3)"};
+  std::vector<char> used(M.nodeCount, 0);
+  std::map<std::vector<long>, std::vector<size_t>> faceTets;   // sorted face -> the tetrahedra that have it
+  for (size_t k = 0; k < tets.size(); k++) {
+    Element &t = tets[k];
+    auto &a = xyz[t.nodes[0]], &b = xyz[t.nodes[1]], &c = xyz[t.nodes[2]], &d = xyz[t.nodes[3]];
+    double u[3], v[3], w[3], longest = 0;
+    for (int i = 0; i < 3; i++) { u[i] = b[i] - a[i]; v[i] = c[i] - a[i]; w[i] = d[i] - a[i]; }
+    const double volume = (u[0] * (v[1] * w[2] - v[2] * w[1]) - u[1] * (v[0] * w[2] - v[2] * w[0]) + u[2] * (v[0] * w[1] - v[1] * w[0])) / 6;
+    for (int i = 0; i < 4; i++)
+      for (int j = i + 1; j < 4; j++) {
+        const auto &p = xyz[t.nodes[i]], &q = xyz[t.nodes[j]];
+        longest = std::max(longest, std::sqrt((p[0] - q[0]) * (p[0] - q[0]) + (p[1] - q[1]) * (p[1] - q[1]) + (p[2] - q[2]) * (p[2] - q[2])));
+      }
+    if (!(std::fabs(volume) > 1e-12 * longest * longest * longest)) throw MeshProblem{"tetrahedron " + std::to_string(t.id) + " has zero volume"};
+    if (volume < 0) std::swap(t.nodes[1], t.nodes[2]);
+    for (long n : t.nodes) used[n] = 1;
+    for (int skip = 0; skip < 4; skip++) {
+      std::vector<long> f;
+      for (int i = 0; i < 4; i++) if (i != skip) f.push_back(t.nodes[i]);
+      std::sort(f.begin(), f.end());
+      faceTets[f].push_back(k);
+    }
+  }
+  for (long i = 0; i < M.nodeCount; i++)
+    if (!used[i]) throw MeshProblem{"node " + std::to_string(idOf[i]) + " is not a vertex of any tetrahedron"};
+  Pieces pieces(tets.size());
+  for (auto &f : faceTets) {
+    if (f.second.size() > 2)
+      throw MeshProblem{"tetrahedra " + std::to_string(tets[f.second[0]].id) + ", " + std::to_string(tets[f.second[1]].id) + " and "
+                        + std::to_string(tets[f.second[2]].id) + " share one face: the mesh overlaps"};
+    if (f.second.size() == 2) pieces.join(f.second[0], f.second[1]);
+  }
+  if (pieces.count() > 1)
+    throw MeshProblem{"the tetrahedra form " + std::to_string(pieces.count()) + " separate pieces (joined by no chain of shared faces): "
+                      "the mesh must be one body"};
+  std::set<long> usedLabels, labels;
+  {
+    std::stringstream roles(required + " " + dirichlet);
+    std::string word;
+    while (roles >> word) if (std::isdigit((unsigned char)word[0])) usedLabels.insert(std::atol(word.c_str()));
+  }
+  std::set<std::vector<long>> labelled;
+  for (Element &e : faces) {
+    std::vector<long> f = e.nodes;
+    std::sort(f.begin(), f.end());
+    const auto at = faceTets.find(f);
+    if (at == faceTets.end())
+      throw MeshProblem{"triangle " + std::to_string(e.id) + " (physical tag " + std::to_string(e.tags[0]) + ") is not a face of any tetrahedron"};
+    if (at->second.size() == 2 && usedLabels.count(e.tags[0]))
+      throw MeshProblem{"triangle " + std::to_string(e.id) + " (physical tag " + std::to_string(e.tags[0]) + ", a label the run uses) "
+                        "lies inside the body, between two tetrahedra: contact, load and Dirichlet labels go on its boundary"};
+    if (labelled.count(f)) throw MeshProblem{"triangle " + std::to_string(e.id) + " repeats another boundary triangle"};
+    labelled.insert(f);
+    labels.insert(e.tags[0]);
+  }
+  for (auto &f : faceTets)
+    if (f.second.size() == 1 && !labelled.count(f.first))
+      throw MeshProblem{"the boundary face (nodes " + std::to_string(idOf[f.first[0]]) + " " + std::to_string(idOf[f.first[1]]) + " " +
+                        std::to_string(idOf[f.first[2]]) + ") has no triangle element: give every boundary surface a Physical Surface"};
+  requireLabels(labels, required, dirichlet, "triangle", "Surface");
+  writeCheckedMesh(outPath, idOf, xyz, {&faces, &tets});
+}
+
+// The dimension of a mesh file: 3 if it has a tetrahedron (gmsh type 4), 2 if it is a gmsh
+// file without one, 0 if it cannot be read as one (the checker then says why)
+long runMeshDimension(string *const &path) {
+  try {
+    MeshText M = readMeshText(*path);
+    for (long i = 0; i < M.elementCount; i++) {
+      std::vector<std::string> w = fieldsOf(M.lines[M.elementsAt + 2 + i]);
+      if (w.size() >= 2 && w[1] == "4") return 3;
+    }
+    return 2;
+  } catch (const MeshProblem &) {
+    return 0;
+  }
+}
+// The dimension of a gmsh .geo: 3 if it defines a Physical Volume, else 2
+long runGeoDimension(string *const &path) {
+  std::ifstream f(*path);
+  std::string line;
+  while (std::getline(f, line)) {
+    const size_t comment = line.find("//");
+    if (line.substr(0, comment).find("Physical Volume") != std::string::npos) return 3;
+  }
+  return 2;
+}
+// Start this FreeFEM program again, in this process (execv), with the same arguments and one
+// more (solve.edp: -Ddimension=3, which FreeFEM's lexer reads as a macro definition, for a 3D
+// scene); returns only if that fails (1)
+long runRestartWith(string *const &extra) {
+  std::ifstream f("/proc/self/cmdline", std::ios::binary);
+  std::vector<std::string> args;
+  std::string arg;
+  while (std::getline(f, arg, '\0')) args.push_back(arg);
+  if (args.empty()) return 1;
+  args.push_back(*extra);
+  std::vector<char *> argv;
+  for (auto &a : args) argv.push_back(const_cast<char *>(a.c_str()));
+  argv.push_back(nullptr);
+  std::fflush(nullptr);
+  execv("/proc/self/exe", argv.data());
+  return 1;
 }
 
 double runMeshExtentRatio() { return maxExtentRatio; }
@@ -1102,7 +1305,8 @@ double runMeshExtentRatio() { return maxExtentRatio; }
 long runCheckMesh(string *const &in, string *const &out, string *const &required, string *const &dirichlet,
                   string *const &what, const long &fatal) {
   try {
-    checkMesh(*in, *out, *required, *dirichlet);
+    if (runMeshDimension(in) == 3) checkMesh3(*in, *out, *required, *dirichlet);
+    else checkMesh(*in, *out, *required, *dirichlet);
   } catch (const MeshProblem &problem) {
     if (fatal) fail(3, *what + ": " + problem.why);
     return 1;
@@ -1139,6 +1343,9 @@ static void Load_Init() {
   Global.Add("runFileLines", "(", new OneOperator1_<long, string *>(runFileLines));
   Global.Add("runCacheIntact", "(", new OneOperator1_<long, string *>(runCacheIntact));
   Global.Add("runMeshExtentRatio", "(", new OneOperator0<double>(runMeshExtentRatio));
+  Global.Add("runMeshDimension", "(", new OneOperator1_<long, string *>(runMeshDimension));
+  Global.Add("runGeoDimension", "(", new OneOperator1_<long, string *>(runGeoDimension));
+  Global.Add("runRestartWith", "(", new OneOperator1_<long, string *>(runRestartWith));
   Global.Add("runCheckMesh", "(", new OneOperator6_<long, string *, string *, string *, string *, string *, long>(runCheckMesh));
 }
 

@@ -13,6 +13,10 @@ Every frame is read and checked first (a .vtu that is not one, nan or inf in a v
 a zone code out of range: refused, naming the file); the files are written all or nothing
 (suite.FigureFiles), never over a file of figures/ that figures.list does not list. Prints
 the files written.
+
+A 3D run (summary.txt: dimension 3) needs no vtk/: its animation is Gamma3 seen from outside
+(suite.ContactFace), each node's cell in the colour of its zone at each recorded step of
+contact_nodes_history.txt, the nodes per zone against t below (animate3).
 """
 import argparse
 import os
@@ -34,6 +38,18 @@ warnings.filterwarnings("ignore", "Animation was deleted without rendering anyth
 FRAMES, FPS, DPI = 100, 10, 80          # at most 100 frames, 10 a second, 80 pixels an inch
 LEGEND = (len(suite.ZONES), 5, 1.5)     # the zones' legend: 5 entries, up to 5 columns of 1.5 inches
 ZONE_COLORS = {zone.code: zone.color for zone in suite.ZONES}
+
+
+def save_animation(fig, draw, count, files, written):
+    """The frames draw(0 .. count-1) of fig as the GIF written[0] (and the MP4 written[1]), through
+    the all-or-nothing files (suite.FigureFiles); returns written."""
+    animation = manimation.FuncAnimation(fig, draw, frames=count, interval=1000 / FPS)
+    animation.save(files.temporary(written[0]), writer=manimation.PillowWriter(fps=FPS), dpi=DPI)
+    if len(written) > 1:
+        animation.save(files.temporary(written[1]), writer=manimation.FFMpegWriter(fps=FPS), dpi=DPI)
+    plt.close(fig)
+    files.commit()
+    return written
 
 
 def time_series(folder):
@@ -88,6 +104,8 @@ def animate(folder):
     out = os.path.join(suite.run_folder(folder), "figures")
     written = [os.path.join(out, name) for name in ("animation.gif", "animation.mp4")[:2 if shutil.which("ffmpeg") else 1]]
     files = suite.FigureFiles(written)                  # refuses to draw over a file not ours
+    if suite.run_dimension(folder) == 3:
+        return animate3(folder, files, written)
     frames = time_series(folder)
     xy, triangles = frames[0][1].xy, frames[0][1].triangles
     largest = max(np.hypot(*array(vtu, "u", 2).T).max() for _, vtu in frames)
@@ -125,13 +143,66 @@ def animate(folder):
 
     draw(len(frames) - 1)                               # the layout for the widest title
     fig.tight_layout(rect=(0, (0.1 + 0.2 * legend_rows(fig)) / fig.get_figheight(), 1, 1))   # the zones' legend below
-    animation = manimation.FuncAnimation(fig, draw, frames=len(frames), interval=1000 / FPS)
-    animation.save(files.temporary(written[0]), writer=manimation.PillowWriter(fps=FPS), dpi=DPI)
-    if len(written) > 1:
-        animation.save(files.temporary(written[1]), writer=manimation.FFMpegWriter(fps=FPS), dpi=DPI)
-    plt.close(fig)
-    files.commit()
-    return written
+    return save_animation(fig, draw, len(frames), files, written)
+
+
+def animate3(folder, files, written):
+    """The animation of a 3D run: its contact face seen from outside (suite.ContactFace),
+    each node's cell in the colour of its zone at each recorded step of
+    contact_nodes_history.txt (at most FRAMES of them, evenly spread, the first and the last
+    included), the nodes of each zone against t below, a line at the frame's t. Writes the
+    files `written` (all or nothing, through files); returns them."""
+    from matplotlib.collections import LineCollection, PolyCollection
+    from matplotlib.patches import Patch
+    name = os.path.basename(os.path.normpath(os.path.abspath(folder)))
+    contact = suite.read_table(os.path.join(folder, "contact.txt"))
+    mesh = os.path.join(folder, "mesh.msh")
+    face = suite.ContactFace(suite.read_msh3(mesh), contact, mesh)
+    xyz = np.column_stack(contact.finite("x", "y", "z"))
+    _, t, zones = suite.node_zones(os.path.join(folder, "contact_nodes_history.txt"), len(contact), xyz)
+    chosen = np.unique(np.linspace(0, len(t) - 1, min(len(t), FRAMES)).round().astype(int))
+    counts = np.array([[np.sum(row == zone.code) for zone in suite.ZONES] for row in zones])
+    width, left, legend, title, below, history = 8.0, 0.7, 2.2, 0.75, 0.5, 1.6     # inches
+    w, h = face.extent() + 0.08 * face.extent().max()               # with the margins of suite.face_axes
+    map_width = width - left - legend - 0.2
+    map_height = min(map_width * h / w, 4.5)
+    map_width = map_height * w / h
+    height = title + map_height + below + 0.35 + history + below
+    fig = plt.figure(figsize=even_pixels((width, height)))
+    width, height = fig.get_size_inches()
+
+    def box(x, y, w_, h_):                                          # inches from the top left -> figure fraction
+        return (x / width, 1 - (y + h_) / height, w_ / width, h_ / height)
+    ax = fig.add_axes(box(left, title, map_width, map_height))
+    lower = fig.add_axes(box(left, title + map_height + below + 0.35, width - left - legend - 0.2, history))
+    quads, owners = face.cells()
+    cells = PolyCollection(quads, linewidths=0.4)
+    ax.add_collection(cells)
+    ax.add_collection(LineCollection(face.uv[face.edges()], colors="w", linewidths=0.5, alpha=0.7))
+    ax.plot(*face.uv.T, "o", color="k", markersize=2, markeredgewidth=0)
+    suite.face_axes(ax, face)
+    for zone, column in zip(suite.ZONES, counts.T):
+        lower.plot(t, column, color=zone.color)
+    now = lower.axvline(t[0], color="k", linewidth=1)
+    lower.set_xlabel("t [s]")
+    lower.set_ylabel("nodes")
+    lower.set_title("nodes per zone on $\\Gamma_3$", fontsize=8)
+    colors = np.array([mcolors.to_rgba(zone.color) for zone in suite.ZONES])
+
+    def draw(k):
+        step = chosen[k]
+        filled = colors[zones[step][owners]]
+        cells.set_facecolor(filled)
+        cells.set_edgecolor(filled)
+        now.set_xdata([t[step], t[step]])
+        if ax.get_legend():
+            ax.get_legend().remove()
+        ax.legend(handles=[Patch(color=zone.color, label=f"{zone.name}: {suite.nodes(count)}")
+                           for zone, count in zip(suite.ZONES, counts[step])], fontsize=7, loc="upper left",
+                  bbox_to_anchor=(1.02, 1.0), borderaxespad=0)
+        ax.set_title(f"{name}: zones on $\\Gamma_3$ at t = {t[step]:.4g} s\n{face.view}", fontsize=8)
+
+    return save_animation(fig, draw, len(chosen), files, written)
 
 
 def even_pixels(size):

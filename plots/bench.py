@@ -4,7 +4,7 @@
 Reads the run folders DIR/runs/NAME that tests/bench.sh makes (summary.txt of edp/solve.edp,
 NAME.time with the wall seconds and peak memory of the process, NAME.error and
 NAME.solver_error from edp/compare.edp) and writes into DIR
-  steps.txt, steps_adapted.txt, iterations.txt, work_precision.txt   (plain text, '#' header
+  steps.txt, steps_adapted.txt, steps3d.txt, iterations.txt, work_precision.txt   (plain text, '#' header
   naming the columns)
   bench_cost_per_step.png, bench_work_precision.png, bench_iterations.png
 Usage: bench.py --bench DIR --reference RUN_DIR
@@ -55,10 +55,11 @@ def all_names(bench, prefix):
     return sorted(found)
 
 
-def steps_table(bench):
+def steps_table(bench, prefix="steps-", table="steps.txt"):
+    """The cost per step of the runs PREFIX-NXxNY-MODE-PROBLEM (2D) or PREFIX-NXxNYxNZ-... (3D)."""
     rows = []
-    for name in all_names(bench, "steps-"):
-        m = re.match(r"steps-(\d+)x(\d+)-(\w+)-(original|penalty)(.*)", name)
+    for name in all_names(bench, prefix):
+        m = re.match(re.escape(prefix) + r"(\d+)x(\d+)(x\d+)?-(\w+)-(original|penalty)(.*)", name)
         if not m:
             continue
         r = run_record(bench, name)
@@ -66,8 +67,8 @@ def steps_table(bench):
         its = value(r, "iterations_total")
         backsub, median = value(r, "time_backsubstitution"), value(r, "time_step_median")
         umfpack = value(r, "time_backsubstitution_umfpack")
-        rows.append([name, f"{m.group(1)}x{m.group(2)}", int(value(r, "dofs")) if r["converged"] else -1,
-                     int(value(r, "contact_slots")) if r["converged"] else -1, m.group(3), m.group(4),
+        rows.append([name, f"{m.group(1)}x{m.group(2)}{m.group(3) or ''}", int(value(r, "dofs")) if r["converged"] else -1,
+                     int(value(r, "contact_slots")) if r["converged"] else -1, m.group(4), m.group(5),
                      int(steps) if r["converged"] else -1, int(r["converged"]), r["wall"],
                      value(r, "time_mesh"), value(r, "time_assembly"), value(r, "time_factorization"),
                      value(r, "time_condensation"), value(r, "time_record_setup"),
@@ -78,7 +79,7 @@ def steps_table(bench):
                "time_condensation time_record_setup time_backsubstitution time_backsubstitution_umfpack time_step_median "
                "step_over_floor step_over_umfpack_floor iterations_mean "
                "iterations_max peak_memory_MB").split()
-    suite.write_table(os.path.join(bench, "steps.txt"),
+    suite.write_table(os.path.join(bench, table),
                       ["cost per time step: time_step_median (CPU s) against the floor time_backsubstitution (one",
                        "back-substitution with the kernel's Cholesky factor of S, measured during the loop, same run) and against",
                        "time_backsubstitution_umfpack (one back-substitution with FreeFEM's default UMFPACK, median of 5,",
@@ -253,7 +254,7 @@ def rates_and_margin(bench, reference, columns, rows):
           f"{max(r[c['error_x_B']], r[c['error_x_C']]):.1e} m)" for r in fast) if fast else "none"))
 
 
-def chart_cost_per_step(bench, columns, rows):
+def chart_cost_per_step(bench, columns, rows, rows3d=()):
     c = {name: i for i, name in enumerate(columns)}
     fig, (left, right) = plt.subplots(1, 2)
     floors, umfpack_floors = {}, {}
@@ -280,12 +281,17 @@ def chart_cost_per_step(bench, columns, rows):
                     label="2 x floor")
     if umfpack_pts:
         left.loglog(*zip(*umfpack_pts), "k-.", linewidth=1, label="one back-substitution with FreeFEM's UMFPACK")
+    pts3d = sorted((r[c["dofs"]], r[c["time_step_median"]], r[c["time_backsubstitution"]]) for r in rows3d if r[c["converged"]])
+    if pts3d:                                    # the 3D slab (P1 tetrahedra), its step and its own floor
+        left.loglog([p[0] for p in pts3d], [p[1] for p in pts3d], "P-", color="tab:brown", label="3D slab: newton, original")
+        left.loglog([p[0] for p in pts3d], [p[2] for p in pts3d], ":", color="tab:brown", linewidth=2, label="3D slab: floor")
+        highest = max(highest, max(p[1] for p in pts3d))
     left.set_xlabel("degrees of freedom")
     left.set_ylabel("CPU seconds per time step (median)")
     left.set_title("cost of a time step")
     if highest > 0:
-        left.set_ylim(top=highest * 300)        # room for the legend above the slowest mode
-    left.legend(fontsize=7, loc="upper right")
+        left.set_ylim(top=highest * 3000)       # room for the legend above the slowest mode
+    left.legend(fontsize=6.5, loc="upper left", ncol=2)
     for key, style in (("time_mesh", "v-"), ("time_assembly", "o-"), ("time_factorization", "s-"),
                        ("time_condensation", "^-"), ("time_record_setup", "D-")):
         pts = sorted({(r[c["dofs"]], r[c[key]]) for r in rows
@@ -448,10 +454,11 @@ def main():
     parser.add_argument("--reference", required=True)
     args = parser.parse_args()
     columns, rows = steps_table(args.bench)
+    columns3d, rows3d = steps_table(args.bench, "steps3d-", "steps3d.txt")   # the 3D slab: its own table
     c = {name: i for i, name in enumerate(columns)}
     print(f"  {'run':40s} {'dofs':>7s} {'floor ms':>9s} {'umfpack ms':>10s} {'step ms':>9s} {'ratio':>6s} {'vs umf':>6s} "
           f"{'it/step':>7s} {'setup s':>8s} {'MB':>6s}")
-    for r in rows:
+    for r in rows + rows3d:
         setup = (r[c["time_mesh"]] + r[c["time_assembly"]] + r[c["time_factorization"]] + r[c["time_condensation"]]
                  + r[c["time_record_setup"]])
         print(f"  {r[0]:40s} {r[c['dofs']]:7d} {1e3 * r[c['time_backsubstitution']]:9.3f} "
@@ -459,7 +466,7 @@ def main():
               f"{1e3 * r[c['time_step_median']]:9.3f} {r[c['step_over_floor']]:6.2f} {r[c['step_over_umfpack_floor']]:6.2f} "
               f"{r[c['iterations_mean']]:7.2f} "
               f"{setup:8.2f} {r[c['peak_memory_MB']]:6.0f}")
-    chart_cost_per_step(args.bench, columns, rows)
+    chart_cost_per_step(args.bench, columns, rows, rows3d)
     acolumns, arows = steps_adapted_table(args.bench)
     a = {name: i for i, name in enumerate(acolumns)}
     for r in arows:

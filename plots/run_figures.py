@@ -16,6 +16,14 @@ straight along x, otherwise the arc length; a Gamma3 in pieces (the mesh's conta
 that do not join) is drawn in pieces, its gaps left blank. The zones are shaded from the
 nodes' statuses wherever they lie, never in an assumed order.
 
+A 3D run (summary.txt: dimension 3) gets the same files, drawn for its body of tetrahedra
+(the functions ending in 3): Gamma3 seen from outside in its own plane coordinates
+(suite.ContactFace) for contact_at_T.png (maps of v_nu, p_nu, |v_tau| with the slip
+arrows, and the friction cone) and zone_map.png (the zones at T); the outer surface
+deformed, seen from above and below, for deformed.png; the forces in both tangential
+directions in histories.png. In compare_contact.png its nodes are dots at their first
+coordinate on Gamma3.
+
 Prints the files written, one a line; a note on stderr for each figure a run's files do not
 allow. All or nothing (suite.FigureFiles): nothing is drawn over a file of figures/ that
 figures.list does not list, and a failure leaves every figures/ as it was. Corrupt inputs
@@ -28,6 +36,8 @@ import sys
 
 import matplotlib.collections as mcollections
 import matplotlib.colors as mcolors
+import matplotlib.lines as mlines
+import matplotlib.ticker as mticker
 import matplotlib.tri as mtri
 import numpy as np
 
@@ -45,13 +55,29 @@ class Run:
     def __init__(self, folder):
         self.folder = suite.run_folder(folder)
         self.name = os.path.basename(os.path.normpath(os.path.abspath(folder)))
+        self.dimension = suite.run_dimension(folder)
         self.contact = c = suite.read_table(self.file("contact.txt"))
+        if self.dimension == 3:
+            self.init3(folder)
+            return
         c.finite(*CONTACT_DRAWN)
         self.mesh = suite.read_msh22(self.file("mesh.msh"))
         self.law = suite.RunScene(folder, c.params, required=True)
         self.zones = suite.zone_codes(c.codes("normal_status", 0, 2), c.codes("tangential_status", 0, 1))
         self.position, self.axis = suite.contact_position(self.mesh, c["x"], c["y"])
         self.pieces = suite.contact_pieces(self.mesh, c["x"], c["y"])
+
+    def init3(self, folder):
+        """A 3D run: Gamma3 seen from outside (suite.ContactFace); for compare_contact, the
+        nodes' position is their first coordinate on the face, Gamma3 one piece."""
+        c = self.contact
+        c.finite(*CONTACT_DRAWN, *CONTACT_DRAWN_3D)
+        self.mesh = suite.read_msh3(self.file("mesh.msh"))
+        self.law = suite.RunScene(folder, c.params, required=True)
+        self.zones = suite.zone_codes(c.codes("normal_status", 0, 2), c.codes("tangential_status", 0, 1))
+        self.face = suite.ContactFace(self.mesh, c, self.file("mesh.msh"))
+        self.position, self.axis = self.face.uv[:, 0], self.face.labels[0]
+        self.pieces = np.zeros(len(c), dtype=int)
 
     def file(self, name):
         return os.path.join(self.folder, name)
@@ -62,6 +88,7 @@ class Run:
 
 
 CONTACT_DRAWN = ("x", "y", "v_nu", "p_nu", "lambda_nu", "lambda_tau", "friction_bound")   # contact.txt
+CONTACT_DRAWN_3D = ("z", "v_tau", "v_tau2", "lambda_tau2")                                # and in 3D
 
 
 def contact_panels(fig_title, runs, shade):
@@ -70,6 +97,9 @@ def contact_panels(fig_title, runs, shade):
     fig, axes = plt.subplots(3, 1, sharex=True, figsize=(11, 8.5))
     for run, color in zip(runs, plt.rcParams["axes.prop_cycle"].by_key()["color"]):
         c = run.contact
+        if run.dimension == 3:
+            nodes_in_panels(axes, run, color, "" if shade else f"{run.name}: ")
+            continue
         s, v_nu, g, p_nu, lambda_nu, lambda_tau, bound = suite.along_gamma3(
             run.position, run.pieces, c["v_nu"], run.law.g(c["x"]), c["p_nu"], c["lambda_nu"], c["lambda_tau"],
             c["friction_bound"])                        # broken across the gaps between pieces of Gamma3
@@ -93,6 +123,24 @@ def contact_panels(fig_title, runs, shade):
     return fig
 
 
+def nodes_in_panels(axes, run, color, name):
+    """The nodes of a 3D run in the panels of contact_panels (compare_contact), each at its
+    first coordinate on Gamma3 (ContactFace), as markers, not lines (nodes side by side on
+    the face share a position): v_nu and g, p_nu and p(v_nu), the friction stress along
+    that coordinate and +- the bound."""
+    c, face = run.contact, run.face
+    s, dash = run.position, dict(marker="_", linestyle="none", markersize=7, color=color)
+    across = suite.direction_name(face.t1)
+    axes[0].plot(s, c["v_nu"], "o", color=color, label=f"{name}$v_\\nu$ (3D, every node)")
+    axes[0].plot(s, run.law.g(c["x"]), label=f"{name}bound g", **dash)
+    axes[1].plot(s, c["p_nu"], "o", color=color, label=f"{name}$p_\\nu = p(v_\\nu) + \\lambda_\\nu$ (3D, every node)")
+    axes[1].plot(s, c["p_nu"] - c["lambda_nu"], ".", color=color, label=f"{name}damped response $p(v_\\nu)$")
+    axes[2].plot(s, face.tangential(c["lambda_tau"], c["lambda_tau2"])[:, 0], "o", color=color,
+                 label=f"{name}$\\lambda_\\tau$ along {across} (3D, every node)")
+    axes[2].plot(s, c["friction_bound"], label=f"{name}$\\pm$ friction bound", **dash)
+    axes[2].plot(s, -c["friction_bound"], **dash)
+
+
 def contact_at_T(run):
     """v_nu with g, p_nu, lambda_tau with +-friction_bound along Gamma3 at T, zones shaded."""
     p = run.contact.params
@@ -112,13 +160,26 @@ def histories(run):
     e.finite("t", "energy_residual", *(column for column, _, _ in suite.ENERGY_TERMS))
     fig, ((forces, zones), (energy, residual)) = plt.subplots(2, 2, figsize=(11, 7))
     forces.plot(h["t"], h["normal_force"], label=r"normal force $\sum_i w_i\, p_{\nu,i}$")
-    forces.plot(h["t"], h["tangential_force"], label=r"tangential force $\sum_i w_i\, \lambda_{\tau,i}$")
+    if run.dimension == 3:
+        second = h.finite("tangential_force2")[0]
+        t1, t2 = (suite.direction_name(t) for t in (run.face.t1, run.face.t2))
+        forces.plot(h["t"], h["tangential_force"], label=f"tangential force along $t_1$ ({t1}): "
+                                                          r"$\sum_i w_i\, \lambda_{\tau,i}$")
+        forces.plot(h["t"], second, "-.", label=f"tangential force along $t_2$ ({t2}): "
+                                          r"$\sum_i w_i\, \lambda_{\tau 2,i}$")
+        forces.plot(h["t"], np.hypot(h["tangential_force"], second), "k--", label="length of the tangential force")
+        forces.set_ylabel("force [GN]")
+    else:
+        forces.plot(h["t"], h["tangential_force"], label=r"tangential force $\sum_i w_i\, \lambda_{\tau,i}$")
     forces.set_xlabel("t [s]")
-    forces.set_ylabel("force per unit thickness [GPa m]")
+    if run.dimension == 2:
+        forces.set_ylabel("force per unit thickness [GPa m]")
     forces.set_title(f"{run.name}: contact forces on $\\Gamma_3$")
     forces.legend(fontsize=7)
     suite.zone_counts_plot(zones, h)
     suite.energy_terms_plot(energy, e)
+    if run.dimension == 3:
+        energy.set_ylabel("energy [GJ]")
     energy.set_title("energies at $t_n$, cumulative dissipations and work")
     energy.legend(fontsize=7)
     residual.semilogy(e["t"], np.where(e["energy_residual"] > 0, e["energy_residual"], np.nan), "o-", markersize=2)
@@ -222,10 +283,200 @@ def zone_map(run):
     return fig
 
 
+# ---------------------------------------------------------------- 3D runs
+def face_grid(face, maps, width=11.0, highest=4.2, plain=3.0):
+    """A figure of `maps` maps of Gamma3 (suite.ContactFace, at equal aspect, each with its
+    colour bar as high as it) and one plain axes after them, laid out by hand in inches for
+    the face's shape: one column for a face more than 2.5 times as wide as high (a slab's),
+    else two. Returns (fig, [(map axes, colour bar axes)], the plain axes)."""
+    left, right, title, below, top = 0.75, 1.2, 0.55, 0.5, 0.75     # margins (inches): labels, colour bar, titles
+    w, h = face.extent() + 0.08 * face.extent().max()              # with the margins of suite.face_axes
+    columns = 1 if h < 0.4 * w else 2
+    map_width = (width - columns * (left + right)) / columns
+    map_height = min(map_width * h / w, highest)
+    map_width = map_height * w / h
+    slots = [map_height] * maps + [map_height if columns == 2 else plain]
+    rows = [max(slots[k:k + columns]) for k in range(0, len(slots), columns)]
+    height = top + sum(row + title + below for row in rows)
+    fig = plt.figure(figsize=(width, height))
+
+    def box(x, y, w_, h_):                                          # inches from the top left -> figure fraction
+        return (x / width, 1 - (y + h_) / height, w_ / width, h_ / height)
+    axes = []
+    for k, slot in enumerate(slots):
+        row, column = divmod(k, columns)
+        x, y = column * width / columns + left, top + sum(r + title + below for r in rows[:row]) + title
+        if k < maps:
+            axes.append((fig.add_axes(box(x, y, map_width, slot)), fig.add_axes(box(x + map_width + 0.12, y, 0.15, slot))))
+        else:                                                       # room on its right for a legend
+            plain_axes = fig.add_axes(box(x, y, width / columns - left - 2.3, slot))
+    for _, bar in axes:
+        bar.grid(False)
+    fig.no_tight_layout = True                                      # the layout is this one
+    return fig, axes, plain_axes
+
+
+def face_map(fig, axes, run, values, label, title, norm=None):
+    """A quantity at the nodes of Gamma3 over the face (linear on each triangle), the
+    triangles' edges in white, a colour bar (from 0 when the quantity is the same at every
+    node to 1 part in 1000, so that round-off is not drawn as a pattern); returns the colour
+    bar."""
+    face, (ax, room) = run.face, axes
+    if norm is None and np.ptp(values) <= 1e-3 * np.abs(values).max():
+        norm = mcolors.Normalize(min(0.0, values.min()), max(0.0, values.max()) or 1.0)
+    shown = ax.tripcolor(mtri.Triangulation(*face.uv.T, face.triangles), values, shading="gouraud", cmap="viridis",
+                         norm=norm)
+    ax.add_collection(mcollections.LineCollection(face.uv[face.edges()], colors="w", linewidths=0.4, alpha=0.35))
+    suite.face_axes(ax, face)
+    ax.set_title(title)
+    bar = fig.colorbar(shown, cax=room, label=label)
+    bar.formatter.set_useOffset(False)
+    return bar
+
+
+def contact_at_T3(run):
+    """A 3D run's contact on Gamma3 at T, the face seen from outside (suite.ContactFace):
+    maps of v_nu (the bound g marked on its colour bar), p_nu, and |v_tau| with the slip
+    velocity of each slipping node as an arrow; |lambda_tau| of every node against its bound
+    mu p(v_nu), coloured by zone."""
+    c, face = run.contact, run.face
+    p = c.params
+    fig, (normal, pressure, slip), cone = face_grid(face, 3)
+    v_nu, g = c["v_nu"], run.law.g(c["x"])
+    bar = face_map(fig, normal, run, v_nu, "$v_\\nu$ [m/s]", "normal velocity $v_\\nu$\n(red on its scale: the bound g)",
+                   norm=mcolors.Normalize(min(v_nu.min(), 0.0), max(v_nu.max(), g.max())))
+    for value in sorted({g.min(), g.max()}):                  # the bound (its least and largest on Gamma3)
+        bar.ax.axhline(value, xmin=-0.3, xmax=1.0, color="tab:red", linewidth=2.5, clip_on=False, in_layout=False)
+        bar.ax.text(-0.4, value, "g", color="tab:red", ha="right", va="center", fontsize=9, fontweight="bold",
+                    transform=bar.ax.get_yaxis_transform(), in_layout=False)
+    face_map(fig, pressure, run, c["p_nu"], "$p_\\nu$ [GPa]", "normal stress\n$p_\\nu = p(v_\\nu) + \\lambda_\\nu$")
+    velocity = face.tangential(c["v_tau"], c["v_tau2"])
+    speed = np.hypot(c["v_tau"], c["v_tau2"])
+    slipping = run.zones % 2 == 1                             # zones 1 and 3: tangential status 1
+    longest = float(speed[slipping].max()) if slipping.any() else 0.0
+    face_map(fig, slip, run, speed, "$|v_\\tau|$ [m/s]", "slip speed $|v_\\tau|$\narrows: the slip velocity"
+             + (f" (longest {longest:.3g} m/s)" if slipping.any() else ": no node slips"),
+             norm=mcolors.Normalize(0.0, speed.max() or 1.0))
+    if slipping.any():
+        edges = face.uv[face.edges()]
+        spacing = float(np.median(np.hypot(*(edges[:, 1] - edges[:, 0]).T)))   # the longest arrow: 0.7 of it
+        slip[0].quiver(*face.uv[slipping].T, *velocity[slipping].T, color="w", edgecolor="k", linewidth=0.5, angles="xy",
+                    scale_units="xy", scale=longest / (0.7 * spacing), pivot="middle", width=0.005, zorder=3, clip_on=False, in_layout=False)
+    friction, bound = np.hypot(c["lambda_tau"], c["lambda_tau2"]), c["friction_bound"]
+    top = 1.08 * max(float(friction.max()), float(bound.max())) or 1.0
+    cone.plot([0, top], [0, top], "k--", linewidth=0.8, label="$|\\lambda_\\tau| = \\mu\\, p(v_\\nu)$: slip")
+    cone.scatter(bound, friction, c=[ZONE_COLORS[z] for z in run.zones], s=18, edgecolors="k", linewidths=0.4, zorder=3,
+                 clip_on=False)
+    cone.set_xlim(0, top)
+    cone.set_ylim(0, top)
+    cone.set_xlabel("friction bound $\\mu\\, p(v_\\nu)$ [GPa]")
+    cone.set_ylabel("$|\\lambda_\\tau|$ [GPa]")
+    cone.set_title("friction: $|\\lambda_\\tau|$ of each node against its bound" if bound.max() > 0 else
+                   "friction: the bound $\\mu\\, p(v_\\nu)$ is 0 at every node (frictionless)")
+    cone.legend(handles=cone.get_legend_handles_labels()[0] + suite.zone_patches(run.zones), fontsize=7,
+                loc="upper left", bbox_to_anchor=(1.01, 1.0))
+    fig.suptitle(f"{run.name}: contact on $\\Gamma_3$ at T = {p['T']} ({suite.problem_label(p)})\n{face.view}"
+                 + ("; $\\Gamma_3$ overlaps itself in this view" if face.folded else ""), fontsize=10)
+    return fig
+
+
+def zone_map3(run):
+    """The zone of every node of a 3D run's Gamma3 at T over the face seen from outside,
+    each node's cell (halfway to its neighbours) in its zone's colour, the counts in the
+    legend."""
+    face = run.face
+    w, h = face.extent()
+    height = min(8.0 * h / w, 6.5)
+    fig, ax = plt.subplots(figsize=(10.8, max(height, 1.8) + 1.4))
+    suite.draw_face_zones(ax, face, run.zones)
+    ax.legend(handles=suite.zone_patches(run.zones), fontsize=7, loc="upper left", bbox_to_anchor=(1.01, 1.0),
+              title=f"{suite.nodes(len(run.zones))} at T", title_fontsize=7)
+    ax.set_title(f"{run.name}: zones on $\\Gamma_3$ at T = {run.contact.params['T']}, each node's cell (halfway to its "
+                 f"neighbours) in its zone's colour\n{face.view}"
+                 + ("; $\\Gamma_3$ overlaps itself in this view" if face.folded else ""), fontsize=9)
+    return fig
+
+
+VIEWS = ((28, -55, "from above"), (-40, -55, "from below: $\\Gamma_3$, its nodes by zone"))   # elevation, azimuth
+
+
+def deformed3(run):
+    """A 3D run's body at T, its outer surface deformed (magnified as in 2D), each triangle
+    coloured by the von Mises stress (by |v| without it) of its corners, seen from above and
+    from below (the contact nodes by zone there), the undeformed edges in grey."""
+    from mpl_toolkits.mplot3d import proj3d
+    from mpl_toolkits.mplot3d.art3d import Line3DCollection, Poly3DCollection
+    f = suite.read_table(run.file("fields.txt"))
+    xyz, u = np.column_stack(f.finite("x", "y", "z")), np.column_stack(f.finite("u_x", "u_y", "u_z"))
+    if len(xyz) != len(run.mesh.xyz):
+        raise suite.InputError(f"{f.path}: {len(xyz)} vertices, but {len(run.mesh.xyz)} in mesh.msh")
+    size = float(np.ptp(xyz, axis=0).max())
+    moved_off = np.flatnonzero(np.abs(xyz - run.mesh.xyz).max(axis=1) > 1e-9 * size)
+    if moved_off.size:
+        raise suite.InputError(f"{f.path}:{f.lines[moved_off[0]]}: not the vertex {moved_off[0] + 1} of mesh.msh")
+    factor = suite.magnification(size, np.linalg.norm(u, axis=1).max())
+    moved = xyz + factor * u
+    if "von_mises" in f:
+        values, label = f.finite("von_mises")[0], "von Mises stress [GPa]"
+    else:
+        values, label = np.linalg.norm(np.column_stack(f.finite("v_x", "v_y", "v_z")), axis=1), "|v| [m/s]"
+    surface = suite.outer_surface(run.mesh.tetrahedra, xyz)
+    outline = xyz[suite.feature_edges(surface, xyz)]
+    norm = mcolors.Normalize(float(values.min()), float(values.max()))
+    if np.ptp(values) <= 1e-3 * np.abs(values).max():           # the same everywhere: round-off is no pattern
+        norm = mcolors.Normalize(min(0.0, float(values.min())), max(0.0, float(values.max())) or 1.0)
+    colors = plt.get_cmap("viridis")(norm(values[surface].mean(axis=1)))
+    def drawn(points):
+        """(x, -z, y): y up in mplot3d's frame, still right-handed (its ticks on the second
+        axis show z)."""
+        return np.asarray(points)[..., [0, 2, 1]] * [1.0, -1.0, 1.0]
+    low, high = drawn(np.r_[xyz, moved]).min(axis=0), drawn(np.r_[xyz, moved]).max(axis=0)
+    scale = "true scale" if factor == 1 else f"displacements magnified {factor:g} times"
+    fig = plt.figure(figsize=(11, 5.6))
+    contact_rows = run.face.mesh_rows
+    for k, (elevation, azimuth, title) in enumerate(VIEWS):
+        ax = fig.add_subplot(1, 2, k + 1, projection="3d", computed_zorder=False)
+        ax.view_init(elevation, azimuth)
+        ax.set_xlim(low[0], high[0])
+        ax.set_ylim(low[1], high[1])
+        ax.set_zlim(low[2], high[2])
+        ax.set_box_aspect(np.maximum(high - low, 1e-3 * (high - low).max()))
+        screen = np.column_stack(proj3d.proj_transform(*drawn(moved).T, ax.get_proj())[:2])
+        a, b, c = (screen[surface[:, corner]] for corner in range(3))
+        front = np.cross(b - a, c - a) > 0                     # counterclockwise on the screen: facing the viewer
+        ax.add_collection3d(Poly3DCollection(drawn(moved[surface[front]]), facecolors=colors[front],
+                                             edgecolors=(0, 0, 0, 0.12), linewidths=0.3, zorder=1))
+        ax.add_collection3d(Line3DCollection(drawn(outline), colors="0.55", linewidths=0.7, zorder=2))
+        if k == 1:
+            seen = np.isin(contact_rows, surface[front])      # on a triangle facing the viewer
+            ax.scatter(*drawn(moved[contact_rows[seen]]).T, c=[ZONE_COLORS[z] for z in run.zones[seen]], s=10,
+                       edgecolors="k", linewidths=0.3, depthshade=False, zorder=3)
+        ax.set_xlabel("x [m]")
+        ax.set_ylabel("z [m]")
+        ax.yaxis.set_major_formatter(mticker.FuncFormatter(lambda value, _: f"{-value + 0.0:g}"))
+        ax.set_zlabel("y [m]")
+        for axis, extent in zip((ax.xaxis, ax.yaxis, ax.zaxis), high - low):
+            axis.set_major_locator(mticker.MaxNLocator(4 if extent > 0.2 * (high - low).max() else 1))
+        ax.tick_params(labelsize=7)
+        fig.text(0.03 + 0.43 * k, 0.905, title, fontsize=10)
+    handles = [mlines.Line2D([], [], color="0.55", label="undeformed edges")] + suite.zone_patches(run.zones)
+    fig.legend(handles=handles, loc="lower center", ncol=len(handles), fontsize=7)
+    fig.subplots_adjust(left=0.0, right=0.86, bottom=0.08, top=0.84, wspace=0.1)
+    bar = fig.add_axes((0.905, 0.2, 0.015, 0.6))
+    bar.grid(False)
+    fig.colorbar(plt.cm.ScalarMappable(norm=norm, cmap="viridis"), cax=bar, label=label).formatter.set_useOffset(False)
+    fig.suptitle(f"{run.name}: deformed at T = {f.params['T']} ({scale}), coloured by the {label.split(' [')[0]} "
+                 "(each surface triangle: the mean of its corners)", fontsize=10)
+    fig.no_tight_layout = True                                 # (tight_layout does not place 3D axes)
+    return fig
+
+
 # The figures of one run and the files each needs beyond contact.txt, mesh.msh and scene.scene.
 FIGURES = (("contact_at_T", contact_at_T, ()), ("histories", histories, ("contact_history.txt", "history.txt")),
            ("deformed", deformed, ("fields.txt",)),
            ("zone_map", zone_map, ("contact_nodes_history.txt", "contact_history.txt")))
+FIGURES_3D = (("contact_at_T", contact_at_T3, ()), ("histories", histories, ("contact_history.txt", "history.txt")),
+              ("deformed", deformed3, ("fields.txt",)), ("zone_map", zone_map3, ()))      # at T: from contact.txt
 
 
 def plan(runs):
@@ -234,7 +485,7 @@ def plan(runs):
     are several."""
     figures = []
     for run in runs:
-        for name, figure, needs in FIGURES:
+        for name, figure, needs in FIGURES_3D if run.dimension == 3 else FIGURES:
             missing = [need for need in needs if not os.path.isfile(run.file(need))]
             if missing:
                 print(f"run_figures.py: {run.folder}: no {name}.png ({' and '.join(missing)} missing)", file=sys.stderr)
@@ -252,7 +503,8 @@ def main():
     figures = plan(runs)
     files = suite.FigureFiles([path for path, _ in figures])            # refuses to draw over a file not ours
     for path, figure in figures:
-        files.save(figure(), path)
+        fig = figure()
+        files.save(fig, path, tight_layout=not getattr(fig, "no_tight_layout", False))
     files.commit()
     for path, _ in figures:
         print(path)

@@ -245,6 +245,25 @@ rows of xy of the 2-node boundary lines; line_labels: the physical label of each
 
 def read_msh22(path):
     """The nodes, triangles and labelled boundary lines of an ASCII gmsh MSH 2.2 file."""
+    return _read_msh22(path, 2)
+
+
+Mesh3 = collections.namedtuple("Mesh3", "xyz ids tetrahedra faces face_labels")
+Mesh3.__doc__ = """A 3D gmsh MSH 2.2 mesh (docs/design.md, "Three dimensions"). xyz: (nodes, 3)
+coordinates in the file's node order; ids: gmsh node number -> row of xyz; tetrahedra:
+(tetrahedra, 4) rows of xyz; faces: (faces, 3) rows of xyz of the boundary triangles;
+face_labels: the physical label of each (its first tag; 1 the contact surface Gamma3)."""
+
+
+def read_msh3(path):
+    """The nodes, tetrahedra and labelled boundary triangles of an ASCII gmsh MSH 2.2 file of
+    a 3D body."""
+    return _read_msh22(path, 3)
+
+
+def _read_msh22(path, dimension):
+    """read_msh22 (dimension 2: triangles, boundary lines) or read_msh3 (3: tetrahedra,
+    boundary triangles)."""
     lines = read_lines(path)
     sections = {line.strip(): i for i, line in enumerate(lines) if line.startswith("$")}
     for name in ("$MeshFormat", "$Nodes", "$Elements"):
@@ -256,27 +275,38 @@ def read_msh22(path):
             raise InputError(f"{path}: not an ASCII gmsh MSH 2.x file (format {version} {filetype})")
         start = sections["$Nodes"]
         count = int(lines[start + 1])
-        ids, xy = {}, np.empty((count, 2))
+        ids, xy = {}, np.empty((count, dimension))
         for i, line in enumerate(lines[start + 2:start + 2 + count]):
             words = line.split()
             ids[int(words[0])] = i
-            xy[i] = float(words[1]), float(words[2])
+            xy[i] = [float(words[k]) for k in range(1, 1 + dimension)]
         start = sections["$Elements"]
         count = int(lines[start + 1])
-        triangles, edges, labels_ = [], [], []
+        triangles, edges, labels_, tetrahedra = [], [], [], []
         for line in lines[start + 2:start + 2 + count]:
             words = [int(w) for w in line.split()]
             kind, ntags = words[1], words[2]
             nodes = [ids[n] for n in words[3 + ntags:]]
             if kind == 2:                                  # 3-node triangle
                 triangles.append(nodes[:3])
-            elif kind == 1:                                # 2-node line
+                if dimension == 3:                         # a boundary face
+                    if ntags < 1:
+                        raise InputError(f"{path}: a boundary triangle without a physical label")
+                    labels_.append(words[3])
+            elif kind == 1 and dimension == 2:             # 2-node line
                 if ntags < 1:
                     raise InputError(f"{path}: a boundary line without a physical label")
                 edges.append(nodes[:2])
                 labels_.append(words[3])
+            elif kind == 4 and dimension == 3:             # 4-node tetrahedron
+                tetrahedra.append(nodes[:4])
     except (ValueError, IndexError, KeyError) as error:
         raise InputError(f"{path}: not a readable gmsh MSH 2.2 file ({type(error).__name__}: {error})") from None
+    if dimension == 3:
+        if not tetrahedra:
+            raise InputError(f"{path}: no tetrahedra (the mesh of a 3D run)")
+        return Mesh3(xy, ids, np.array(tetrahedra, dtype=int), np.array(triangles, dtype=int).reshape(-1, 3),
+                     np.array(labels_, dtype=int))
     if not triangles:
         raise InputError(f"{path}: no triangles")
     return Mesh(xy, ids, np.array(triangles, dtype=int), np.array(edges, dtype=int).reshape(-1, 2),
@@ -822,6 +852,201 @@ def body_figure(points, title, legend=(0, 3, 2.4), box=(8.0, 6.0), right=2.0):
     ax.set_ylabel("y [m]")
     ax.set_title("\n".join(lines))
     return fig, ax
+
+
+# ---------------------------------------------------------------- three dimensions
+def run_dimension(folder):
+    """2 or 3: the 'dimension' line of a run's summary.txt (docs/design.md, "Three
+    dimensions"); a run of an older version, which has none, is 2D."""
+    summary = read_summary(folder)
+    value = summary.get("dimension", "2")
+    if value not in ("2", "3"):
+        raise InputError(f"{summary.source}: dimension = {value!r}, not 2 or 3")
+    return int(value)
+
+
+def nearest_rows(points, targets):
+    """For each target (a row of coordinates), the row of the nearest of points and its
+    distance: (rows, distances)."""
+    points, targets = np.asarray(points, dtype=float), np.asarray(targets, dtype=float)
+    rows, distances = np.empty(len(targets), dtype=int), np.empty(len(targets))
+    for start in range(0, len(targets), 256):                  # a block of targets at a time
+        block = np.linalg.norm(points[None, :, :] - targets[start:start + 256, None, :], axis=2)
+        rows[start:start + 256] = np.argmin(block, axis=1)
+        distances[start:start + 256] = block[np.arange(len(block)), rows[start:start + 256]]
+    return rows, distances
+
+
+def surface_frame(normal):
+    """The frame (n, t1, t2) of a unit normal by the solver's rule (docs/design.md, "Three
+    dimensions"): t1 the coordinate axis least aligned with n (the first of equals) made
+    orthogonal to it, t2 = n x t1, so that t1 x t2 = n."""
+    n = np.asarray(normal, dtype=float) / np.linalg.norm(normal)
+    axis = np.eye(3)[int(np.argmin(np.abs(n)))]
+    t1 = axis - axis.dot(n) * n
+    t1 /= np.linalg.norm(t1)
+    return n, t1, np.cross(n, t1)
+
+
+def direction_name(vector):
+    """'x', '-z' for a coordinate axis, else '(0.707, 0, 0.707)'."""
+    for k, name in enumerate("xyz"):
+        if abs(abs(vector[k]) - 1) < 1e-9:
+            return name if vector[k] > 0 else "\N{MINUS SIGN}" + name
+    return "(" + ", ".join(f"{value:.3g}".replace("-", "\N{MINUS SIGN}") for value in vector + 0.0) + ")"
+
+
+class ContactFace:
+    """Gamma3 of a 3D run (the boundary triangles of label 1 of its mesh) seen from outside,
+    in its own plane coordinates: the mean normal n of the contact nodes (their normals
+    weighted by their weights, from contact.txt) points towards the viewer, and a point p
+    has the coordinates (p.t1, p.t2) of the frame of n (surface_frame: on a face y = 0, n =
+    (0, -1, 0), t1 = x and t2 = z, the face seen from below). uv: (nodes, 2) those of the
+    contact nodes, in the order of contact.txt; triangles: (faces, 3) rows of contact.txt;
+    mesh_rows: the row of mesh.xyz of each node; labels: the axis labels; view: how the face
+    is seen; folded: whether a curved Gamma3 overlaps itself in this view (a triangle seen
+    from inside). source: the mesh's file, for messages."""
+
+    def __init__(self, mesh, contact, source="the mesh"):
+        c = contact
+        xyz = np.column_stack(c.finite("x", "y", "z"))
+        faces = mesh.faces[mesh.face_labels == labels()["GammaContact"]]
+        if not len(faces):
+            raise InputError(f"{source} has no contact surface (physical surface 1)")
+        on = np.unique(faces)
+        rows, distances = nearest_rows(mesh.xyz[on], xyz)
+        size = max(float(np.ptp(mesh.xyz, axis=0).max()), 1e-300)
+        far = np.flatnonzero(distances > 1e-6 * size)
+        if far.size:
+            raise InputError(f"{c.path}:{c.lines[far[0]]}: the node ({', '.join(f'{v:g}' for v in xyz[far[0]])}) is "
+                             "not a node of the mesh's contact surface (physical surface 1)")
+        if len(set(rows)) != len(rows) or len(rows) != len(on):
+            raise InputError(f"{c.path}: {len(xyz)} rows for the {len(on)} nodes of the mesh's contact surface, "
+                             "not one a node")
+        self.mesh_rows = on[rows]                                               # of each node, in mesh.xyz
+        local = np.full(len(mesh.xyz), -1)
+        local[self.mesh_rows] = np.arange(len(rows))
+        self.triangles = local[faces]
+        self.frames = np.stack([np.column_stack(c.finite(*(f"{axis}_{k}" for k in "xyz")))
+                                for axis in ("n", "t1", "t2")], axis=1)          # (nodes, 3 axes, 3)
+        weights = c.finite("weight")[0]
+        mean = weights @ self.frames[:, 0]
+        if np.linalg.norm(mean) <= 1e-9 * max(weights.sum(), 1e-300):          # a closed surface
+            mean = self.frames[0, 0]
+        self.normal, self.t1, self.t2 = surface_frame(mean)
+        self.uv = np.c_[xyz @ self.t1, xyz @ self.t2]
+        self.labels = tuple(f"{direction_name(t)} [m]" for t in (self.t1, self.t2))
+        self.view = (f"seen from outside (mean normal {direction_name(self.normal)} towards the viewer; "
+                     f"across: {direction_name(self.t1)}, up: {direction_name(self.t2)})")
+        p = xyz[self.triangles]
+        area = np.cross(p[:, 1] - p[:, 0], p[:, 2] - p[:, 0])                   # twice the area, along its normal
+        outward = np.sign(np.einsum("ij,ij->i", area, self.frames[self.triangles, 0].sum(axis=1)))
+        self.folded = bool(np.any(outward * (area @ self.normal) < -1e-9 * np.abs(area).max()))
+
+    def tangential(self, first, second):
+        """The tangential vectors first t1_i + second t2_i of the nodes (their own frames), in
+        the face's plane coordinates: (nodes, 2)."""
+        vectors = first[:, None] * self.frames[:, 1] + second[:, None] * self.frames[:, 2]
+        return np.c_[vectors @ self.t1, vectors @ self.t2]
+
+    def edges(self):
+        """The edges of the triangles of Gamma3, once each: (edges, 2) rows of uv."""
+        t = self.triangles
+        return np.unique(np.sort(np.concatenate([t[:, [0, 1]], t[:, [1, 2]], t[:, [2, 0]]]), axis=1), axis=0)
+
+    def cells(self):
+        """Each node's cell, halfway to its neighbours (the median dual cell): from each
+        triangle, for each corner, the quadrilateral corner, midpoint of an edge, centroid,
+        midpoint of the other edge. (quadrilaterals (3 faces, 4, 2), the node of each)."""
+        p = self.uv[self.triangles]
+        centroid = p.mean(axis=1)
+        quads = [np.stack([p[:, k], 0.5 * (p[:, k] + p[:, (k + 1) % 3]), centroid, 0.5 * (p[:, k] + p[:, (k + 2) % 3])],
+                          axis=1) for k in range(3)]
+        return np.concatenate(quads), self.triangles.T.ravel()
+
+    def extent(self):
+        """Width and height of the face in its plane coordinates (at least 1e-12)."""
+        return np.maximum(np.ptp(self.uv, axis=0), 1e-12)
+
+
+def face_axes(ax, face, margin=0.04):
+    """The axes set to show the face: its plane coordinates at equal aspect, a margin of
+    `margin` of its size, the axis labels, no grid."""
+    low, high = face.uv.min(axis=0), face.uv.max(axis=0)
+    pad = margin * (high - low).max()
+    ax.set_xlim(low[0] - pad, high[0] + pad)
+    ax.set_ylim(low[1] - pad, high[1] + pad)
+    ax.set_aspect("equal")
+    ax.grid(False)
+    ax.set_xlabel(face.labels[0])
+    ax.set_ylabel(face.labels[1])
+
+
+def draw_face_zones(ax, face, zones, nodes_size=2.5):
+    """The zone of every node of Gamma3 over the face: each node's cell (ContactFace.cells)
+    in its zone's colour, the triangles' edges in white, the nodes as black dots."""
+    from matplotlib.collections import LineCollection, PolyCollection
+    colors = {zone.code: zone.color for zone in ZONES}
+    quads, owners = face.cells()
+    filled = [colors[int(z)] for z in np.asarray(zones)[owners]]
+    ax.add_collection(PolyCollection(quads, facecolors=filled, edgecolors=filled, linewidths=0.4))
+    ax.add_collection(LineCollection(face.uv[face.edges()], colors="w", linewidths=0.5, alpha=0.7))
+    ax.plot(*face.uv.T, "o", color="k", markersize=nodes_size, markeredgewidth=0)
+    face_axes(ax, face)
+
+
+def node_zones(path, nodes, xyz=None):
+    """contact_nodes_history.txt as (the table, t of its recorded steps, zones (steps,
+    nodes)): `nodes` rows (nodes 0 to nodes - 1, in the order of contact.txt) at each step,
+    zone codes in 0..4; with xyz (nodes, 3), the positions of a 3D run's nodes, checked to be
+    those of contact.txt."""
+    h = read_table(path)
+    steps = np.unique(h["step"])
+    if len(h) != len(steps) * nodes or not np.array_equal(h["node"], np.tile(np.arange(nodes), len(steps))):
+        raise InputError(f"{h.path}: not {nodes} rows (nodes 0 to {nodes - 1}) for each of its {len(steps)} steps")
+    zones = h.codes("zone", 0, len(ZONES) - 1)
+    if xyz is not None:
+        moved = np.abs(np.column_stack(h.finite("x", "y", "z")) - np.tile(xyz, (len(steps), 1))).max(axis=1)
+        bad = np.flatnonzero(moved > 1e-9 * max(float(np.ptp(xyz, axis=0).max()), 1e-300))
+        if bad.size:
+            raise InputError(f"{h.path}:{h.lines[bad[0]]}: node {int(h['node'][bad[0]])} is not where contact.txt "
+                             "puts it")
+    return h, h.finite("t")[0][::nodes], zones.reshape(len(steps), nodes)
+
+
+def outer_surface(tetrahedra, xyz):
+    """The boundary of a body of tetrahedra: its triangles (faces of one tetrahedron only),
+    each ordered counterclockwise seen from outside. (triangles, 3) rows of xyz."""
+    corners = ((0, 1, 2, 3), (0, 1, 3, 2), (0, 2, 3, 1), (1, 2, 3, 0))
+    faces = np.concatenate([tetrahedra[:, list(k[:3])] for k in corners])
+    opposite = np.concatenate([tetrahedra[:, k[3]] for k in corners])
+    _, first, counts = np.unique(np.sort(faces, axis=1), axis=0, return_index=True, return_counts=True)
+    keep = np.sort(first[counts == 1])
+    faces, opposite = faces[keep], opposite[keep]
+    p = xyz[faces]
+    inward = np.einsum("ij,ij->i", np.cross(p[:, 1] - p[:, 0], p[:, 2] - p[:, 0]), xyz[opposite] - p[:, 0]) > 0
+    faces[inward] = faces[inward][:, [0, 2, 1]]
+    return faces
+
+
+def feature_edges(triangles, xyz, angle=30.0):
+    """The edges of a closed surface (triangles, outward) where it bends by more than
+    `angle` degrees (the edges of a box), or that bound it: (edges, 2) rows of xyz."""
+    p = xyz[triangles]
+    normals = np.cross(p[:, 1] - p[:, 0], p[:, 2] - p[:, 0])
+    normals /= np.maximum(np.linalg.norm(normals, axis=1), 1e-300)[:, None]
+    edges = np.sort(np.concatenate([triangles[:, [0, 1]], triangles[:, [1, 2]], triangles[:, [2, 0]]]), axis=1)
+    owner = np.tile(np.arange(len(triangles)), 3)
+    order = np.lexsort(edges.T[::-1])
+    edges, owner = edges[order], owner[order]
+    same = np.all(edges[1:] == edges[:-1], axis=1)
+    kept = [edges[i] for i in np.flatnonzero(same)
+            if normals[owner[i]] @ normals[owner[i + 1]] < np.cos(np.radians(angle))]
+    single = np.ones(len(edges), dtype=bool)
+    single[1:] &= ~same
+    single[:-1] &= ~same
+    kept += list(edges[single])
+    return np.array(kept, dtype=int).reshape(-1, 2)
 
 
 # ---------------------------------------------------------------- figures

@@ -8,6 +8,7 @@
 #                       (wall seconds and peak memory of the whole process)
 #   steps.txt           cost per step and setup costs against the mesh, per solver mode
 #   steps_adapted.txt   step / floor on the adapted meshes of work_precision.txt (median of repeats)
+#   steps3d.txt         the same as steps.txt for the 3D slab (slab3d) on three meshes of tetrahedra
 #   iterations.txt      iterations and time per step against the augmentation r, Newton and
 #                       fixed point, on 66x33 and 132x66
 #   work_precision.txt  error against wall time for uniform and adapted meshes, time steps,
@@ -52,6 +53,14 @@ for m in "${meshes[@]}"; do
     run "steps-${1}x${2}-newton-$problem" -nx "$1" -ny "$2" -problem "$problem" -umfpackfloor on
   done
   run "steps-${1}x${2}-fixedpoint-original" -nx "$1" -ny "$2" -solver fixedpoint
+done
+# ---- 3D: the paper's block as a slab (slab3d: the whole face y = 0 is Gamma3), P1 tetrahedra,
+# 20 steps (T = 0.2): the size of a 3D run this machine takes, its memory and cost per step
+slabs=("16 8 8" "32 16 16" "48 24 24")
+[ "$quick" = 1 ] && slabs=("16 8 8" "32 16 16")
+for m in "${slabs[@]}"; do
+  set -- $m
+  run "steps3d-${1}x${2}x${3}-newton-original" -scene slab3d -nx "$1" -ny "$2" -nz "$3" -T 0.2
 done
 # The same Newton written in FreeFEM's language (-kernel script), on the two coarsest meshes.
 for m in "66 33" "132 66"; do

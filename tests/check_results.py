@@ -9,10 +9,15 @@ Reads only the text outputs (nothing of the solver), so it is an independent che
   dissipation of the last step recomputed from contact.txt, the zone counts, the rows of
   contact_nodes_history.txt against contact.txt and contact_history.txt, the von Mises
   stress of fields.txt recomputed from the fields and the mesh.
-Options add: expected zone counts, the known answer of the column scene, and
-agreement with another output folder of the same discrete problem.
+A 3D run (summary.txt: dimension 3; docs/design.md, "Three dimensions") is checked alike,
+with the disk friction law (|lambda_tau| = hypot(lambda_tau, lambda_tau2), colinear with
+the slip), its tetrahedra and its node frames (contact.txt's velocities are those of
+fields.txt in the frame n, t1, t2).
+Options add: expected zone counts, the known answer of the column scene (column, column3d),
+that of the oblique slide (oblique-slide3d: the disk law's total friction force and the
+block's momentum), and agreement with another output folder of the same discrete problem.
 
-Usage: check_results.py DIR [--zones FREE,DAMPED_SLIP,DAMPED_STICK,BOUND_SLIP,BOUND_STICK] [--column]
+Usage: check_results.py DIR [--zones FREE,DAMPED_SLIP,DAMPED_STICK,BOUND_SLIP,BOUND_STICK] [--column] [--slide]
                             [--compare OTHER_DIR] [--rtol 1e-9] [--other-law]
 --other-law: the run solves another law than the paper's (a changed contactlaw.hpp): the
 checks that restate p(r) = c_nu r_+ are skipped, the friction cone uses friction_bound.
@@ -37,6 +42,38 @@ except ModuleNotFoundError as error:
     sys.exit(2)
 
 FILES = ("contact.txt", "fields.txt", "history.txt", "contact_history.txt", "summary.txt")
+FRAME = ("n_x", "n_y", "n_z", "t1_x", "t1_y", "t1_z", "t2_x", "t2_y", "t2_z")     # contact.txt in 3D
+
+
+def run_dimension(summary):
+    """2 or 3: summary.txt's 'dimension' (runs from before 3D bodies have none: 2D)."""
+    return summary.integer("dimension") if "dimension" in summary else 2
+
+
+def read_tetrahedra(path):
+    """The nodes (n, 3) and the tetrahedra (gmsh type 4; rows of the nodes, in the file's node
+    order) of the ASCII gmsh MSH 2.2 file of a 3D run. suite.read_msh22 reads a 2D mesh: it
+    would take a 3D mesh's labelled boundary triangles for its cells."""
+    lines = suite.read_lines(path)
+    sections = {line.strip(): i for i, line in enumerate(lines) if line.startswith("$")}
+    try:
+        start = sections["$Nodes"]
+        ids, xyz = {}, np.empty((int(lines[start + 1]), 3))
+        for i, line in enumerate(lines[start + 2:start + 2 + len(xyz)]):
+            words = line.split()
+            ids[int(words[0])] = i
+            xyz[i] = [float(w) for w in words[1:4]]
+        start = sections["$Elements"]
+        tetrahedra = []
+        for line in lines[start + 2:start + 2 + int(lines[start + 1])]:
+            words = [int(w) for w in line.split()]
+            if words[1] == 4:                                     # 4-node tetrahedron
+                tetrahedra.append([ids[n] for n in words[3 + words[2]:7 + words[2]]])
+    except (ValueError, IndexError, KeyError) as error:
+        raise suite.InputError(f"{path}: not a readable gmsh MSH 2.2 file ({type(error).__name__}: {error})") from None
+    if not tetrahedra:
+        raise suite.InputError(f"{path}: no tetrahedra in the mesh of a 3D run")
+    return xyz, np.array(tetrahedra, dtype=int)
 
 
 class Checker:
@@ -61,6 +98,15 @@ class Checker:
         self.ch = suite.read_table(os.path.join(self.folder, "contact_history.txt"))
         self.summary = suite.read_summary(os.path.join(self.folder, "summary.txt"))
         self.scene = suite.RunScene(self.folder, self.params)
+        self.dim = run_dimension(self.summary)
+        if not self.expect(self.dim in (2, 3), f"summary.txt: dimension {self.dim}, not 2 or 3"):
+            return False
+        if self.dim == 3:           # the columns a 3D run adds (docs/design.md, "Three dimensions")
+            for name, table, columns in (("contact.txt", self.c, ("z", "v_tau2", "lambda_tau2", "friction_bound") + FRAME),
+                                         ("fields.txt", self.f, ("z", "u_z", "v_z", "von_mises")),
+                                         ("contact_history.txt", self.ch, ("tangential_force2",))):
+                for column in columns:
+                    self.expect(column in table, f"{name} lacks column {column} (a 3D run)")
         for name in ("x", "v_nu", "v_tau", "p_nu", "lambda_nu", "lambda_tau", "normal_status",
                      "tangential_status", "weight"):
             self.expect(name in self.c, f"contact.txt lacks column {name}")
@@ -88,9 +134,15 @@ class Checker:
 
     def elastic_lambda(self):
         """B's volumetric coefficient (docs/design.md, "The discrete problem"): E nu/(1-nu^2) in
-        plane stress (sigma_zz = 0), E nu/((1+nu)(1-2nu)) in plane strain (eps_zz = 0)."""
+        plane stress (sigma_zz = 0), E nu/((1+nu)(1-2nu)) in plane strain (eps_zz = 0) and in
+        3D (lambda3, the isotropic law itself)."""
         E, nu = self.real("E"), self.real("nu")
-        return E * nu / ((1 + nu) * (1 - 2 * nu)) if self.plane_strain() else E * nu / (1 - nu ** 2)
+        return E * nu / ((1 + nu) * (1 - 2 * nu)) if self.dim == 3 or self.plane_strain() else E * nu / (1 - nu ** 2)
+
+    def second_tangent(self, table, *names):
+        """The columns v_tau2, lambda_tau2 (names) of a 3D table; zeros in 2D, where a node has one
+        tangent: then |(v_tau, v_tau2)| = |v_tau| exactly."""
+        return [table[name] if self.dim == 3 else np.zeros(len(table)) for name in names]
 
     def count(self, key):
         """A whole number of summary.txt, -1 when it is not there."""
@@ -130,16 +182,36 @@ class Checker:
             eps = self.real("eps")
             err = (np.abs(eps * ln - np.maximum(vn - g, 0.0)) / np.maximum(g, eps * scale)).max()
             self.expect(err <= rtol, f"penalty law eps lambda_nu = (v_nu - g)_+ off by {err:.3e} g")
-        over = ((np.abs(lt) - bound) / scale).max()
+        # |v_tau|, |lambda_tau|: in 3D the lengths of the pairs (t1, t2) of the disk law
+        # (docs/design.md, "Three dimensions"); in 2D the absolute values (v_tau2 = lambda_tau2 = 0)
+        vt2, lt2 = self.second_tangent(c, "v_tau2", "lambda_tau2")
+        speed, stress = np.hypot(vt, vt2), np.hypot(lt, lt2)
+        over = ((stress - bound) / scale).max()
         self.expect(over <= rtol, f"friction cone |lambda_tau| <= mu p(v_nu) violated by {over:.3e} p(g)")
-        slip = np.abs(vt) > 1e-6 * g
+        slip = speed > 1e-6 * g
         if slip.any():
-            gap = (np.abs(np.abs(lt[slip]) - bound[slip]) / scale[slip]).max()
+            gap = (np.abs(stress[slip] - bound[slip]) / scale[slip]).max()
             self.expect(gap <= rtol, f"sliding nodes off the friction bound by {gap:.3e} p(g)")
-            opposed = (lt[slip] * vt[slip] < 0) & (bound[slip] > rtol * scale[slip])
-            self.expect(not opposed.any(), f"{int(opposed.sum())} sliding nodes with lambda_tau against v_tau")
+            if self.dim == 2:
+                opposed = (lt[slip] * vt[slip] < 0) & (bound[slip] > rtol * scale[slip])
+                self.expect(not opposed.any(), f"{int(opposed.sum())} sliding nodes with lambda_tau against v_tau")
+            else:
+                # the disk law: lambda_tau = s v_tau/|v_tau| on a sliding node, a vector along the
+                # slip, same direction. Across the force, the slip may move by what the solver's
+                # tolerance leaves of the velocity (docs/design.md, "Nodal laws": a stress mismatch
+                # of tol min(p(g), r g) moves v by tol g at most), so that component is measured
+                # relative to g, not to |v_tau| (a node that slips at 1e-6 g may turn by 1e-4)
+                pushed = slip & (bound > rtol * scale)
+                opposed = pushed & (lt * vt + lt2 * vt2 <= 0)
+                self.expect(not opposed.any(), f"{int(opposed.sum())} sliding nodes with lambda_tau against v_tau "
+                            "(lambda_tau . v_tau <= 0)")
+                pushed &= stress > 0            # (a sliding node without stress is off the bound, above)
+                across = np.where(pushed, np.abs(vt * lt2 - vt2 * lt) / np.where(pushed, stress, 1.0) / g, 0.0)
+                worst = int(np.argmax(across))
+                self.expect(across[worst] <= rtol, f"sliding node {worst}: v_tau has a component of {across[worst]:.3e} g "
+                            f"across lambda_tau (bound {rtol:g} g): the friction stress is not along the slip")
         normal = np.where(vn <= 0, 0, np.where(vn >= g * (1 - 1e-6), 2, 1))
-        tangential = np.where(np.abs(vt) <= 1e-6 * g, 0, 1)
+        tangential = np.where(speed <= 1e-6 * g, 0, 1)
         self.expect((normal == c["normal_status"]).all(), "normal_status does not match v_nu")
         self.expect((tangential == c["tangential_status"]).all(), "tangential_status does not match v_tau")
         zones = {
@@ -164,15 +236,44 @@ class Checker:
         scale = np.max(scale)
         self.expect(abs(ch["normal_force"][-1] - force) <= rtol * max(abs(force), scale),
                     f"contact_history normal_force {ch['normal_force'][-1]} != sum w p_nu = {force}")
-        tforce = np.sum(c["weight"] * lt)
-        self.expect(abs(ch["tangential_force"][-1] - tforce) <= rtol * max(abs(tforce), scale),
-                    f"contact_history tangential_force {ch['tangential_force'][-1]} != sum w lambda_tau = {tforce}")
+        totals = (("tangential_force", "lambda_tau"),) + ((("tangential_force2", "lambda_tau2"),) if self.dim == 3 else ())
+        for name, column in totals:
+            tforce = np.sum(c["weight"] * c[column])
+            self.expect(abs(ch[name][-1] - tforce) <= rtol * max(abs(tforce), scale),
+                        f"contact_history {name} {ch[name][-1]} != sum w {column} = {tforce}")
         at_bound = c["x"][normal == 2]
         sticking = c["x"][(normal > 0) & (tangential == 0)]
         for name, xs in (("x_B", at_bound), ("x_C", sticking)):
             want = xs.min() if len(xs) else np.nan
             got = ch[name][-1]
             self.expect((np.isnan(want) and np.isnan(got)) or got == want, f"contact_history {name} = {got}, contact.txt gives {want}")
+
+    def check_frame(self, rtol):
+        """3D: each node's frame (n, t1, t2 of contact.txt) is orthonormal and right-handed (t2 =
+        n x t1), and its velocities are those of fields.txt at the node in that frame: v_nu =
+        n.v, v_tau = t1.v, v_tau2 = t2.v (docs/design.md, "Three dimensions"; computed from v
+        itself, also where a Dirichlet condition leaves a node fewer slots)."""
+        c, f = self.c, self.f
+        n, t1, t2 = (np.c_[c[f"{axis}_x"], c[f"{axis}_y"], c[f"{axis}_z"]] for axis in ("n", "t1", "t2"))
+        gram = np.stack([n, t1, t2], 1) @ np.stack([n, t1, t2], 2)       # (nodes, 3, 3): I
+        off = np.abs(gram - np.eye(3)).max()
+        self.expect(off <= 1e-12, f"contact.txt: a node's frame n, t1, t2 is not orthonormal (off by {off:.3e})")
+        handed = np.abs(np.cross(n, t1) - t2).max()
+        self.expect(handed <= 1e-12, f"contact.txt: a node's frame is not right-handed, |n x t1 - t2| = {handed:.3e}")
+        # the node's row of fields.txt: the vertex at its coordinates
+        points, at = np.c_[f["x"], f["y"], f["z"]], np.c_[c["x"], c["y"], c["z"]]
+        size = max(float(np.ptp(points, axis=0).max()), 1e-300)
+        rows = np.array([int(np.argmin(np.abs(points - p).sum(1))) for p in at])
+        away = np.abs(points[rows] - at).max() / size
+        if not self.expect(away <= 1e-12, f"contact.txt: a node is no vertex of fields.txt ({away:.3e} of the body's "
+                           "size away)"):
+            return
+        v = np.c_[f["v_x"], f["v_y"], f["v_z"]][rows]
+        scale = max(float(np.abs(v).max()), float(self.scene.g(c["x"]).max()))
+        for name, axis in (("v_nu", n), ("v_tau", t1), ("v_tau2", t2)):
+            err = np.abs((v * axis).sum(1) - c[name]).max() / scale
+            self.expect(err <= rtol, f"contact.txt {name} differs from fields.txt's v projected on the node's frame by "
+                        f"{err:.3e} of max(|v|, g) = {scale:.3e} (bound {rtol:g})")
 
     def check_energy(self, rtol):
         h = self.h
@@ -210,9 +311,11 @@ class Checker:
         tol = self.real("tol")
         self.expect((h["residual"] <= tol).all(), "a step's residual is above -tol")
         self.expect((h["iterations"] >= 1).all(), "a step reports no iteration")
-        # last step: contact dissipation from contact.txt
+        # last step: contact dissipation from contact.txt (in 3D both tangents: lambda_tau . v_tau)
         c = self.c
         mine = dt * np.sum(c["weight"] * (c["p_nu"] * c["v_nu"] + c["lambda_tau"] * c["v_tau"]))
+        if self.dim == 3:
+            mine += dt * np.sum(c["weight"] * c["lambda_tau2"] * c["v_tau2"])
         theirs = h["contact_dissipation"][-1]
         self.expect(abs(mine - theirs) <= rtol * max(largest[-1], 1e-300),
                     f"contact dissipation of the last step: contact.txt gives {mine:.15e}, history {theirs:.15e}")
@@ -240,12 +343,16 @@ class Checker:
             if not self.expect(counts == logged, f"step {n}: contact_nodes_history.txt zones {counts}, contact_history.txt {logged}"):
                 break
         last = slice(len(nh) - len(c), len(nh))
-        for name in ("x", "y", "v_nu", "v_tau", "p_nu", "lambda_nu", "lambda_tau", "normal_status", "tangential_status"):
+        for name in ("x", "y", "v_nu", "v_tau", "p_nu", "lambda_nu", "lambda_tau", "normal_status", "tangential_status") \
+                + (("z", "v_tau2", "lambda_tau2") if self.dim == 3 else ()):
             self.expect((nh[name][last] == c[name]).all(), f"contact_nodes_history.txt at T: {name} differs from contact.txt")
 
     def check_stress(self, rtol):
         """fields.txt's von_mises, recomputed: sigma = A eps(v) + B eps(u) on each triangle (P1:
-        constant), its von Mises measure, averaged at each vertex with the triangles' areas."""
+        constant), its von Mises measure, averaged at each vertex with the triangles' areas
+        (in 3D: on each tetrahedron, averaged with their volumes, check_stress3)."""
+        if self.dim == 3:
+            return self.check_stress3(rtol)
         f, mesh = self.f, suite.read_msh22(os.path.join(self.folder, "mesh.msh"))
         tri = mesh.triangles
         x, y = f["x"][tri], f["y"][tri]
@@ -273,6 +380,59 @@ class Checker:
         self.expect(worst <= rtol * max(np.abs(mine).max(), 1e-300),
                     f"von_mises: fields.txt differs from its recomputation by {worst:.3e} (largest {np.abs(mine).max():.3e})")
 
+    def tetrahedra(self):
+        """The mesh of a 3D run: its tetrahedra (rows of fields.txt, which lists the vertices in
+        the mesh's order: checked), their gradient operators and volumes. grad[t] solves
+        D grad = (f1 - f0, f2 - f0, f3 - f0) for the edges D of tetrahedron t from its vertex 0:
+        the gradient of the P1 function of vertex values f, constant on t."""
+        f = self.f
+        xyz, tet = read_tetrahedra(os.path.join(self.folder, "mesh.msh"))
+        points = np.c_[f["x"], f["y"], f["z"]]
+        size = max(float(np.ptp(xyz, axis=0).max()), 1e-300)
+        if not self.expect(len(xyz) == len(f) and np.abs(xyz - points).max() <= 1e-12 * size,
+                           "fields.txt does not list the vertices of mesh.msh in its order"):
+            return None
+        self.expect(self.count("tetrahedra") == len(tet),
+                    f"summary tetrahedra = {self.summary.get('tetrahedra')} but mesh.msh has {len(tet)}")
+        edges = points[tet[:, 1:]] - points[tet[:, :1]]                 # (t, 3 edges, 3 coordinates)
+        volume = np.abs(np.linalg.det(edges)) / 6
+        self.expect(bool((volume > 0).all()), "mesh.msh: a tetrahedron of zero volume")
+        return tet, edges, volume
+
+    def gradient(self, tet, edges, values):
+        """The gradient (t, 3) of the P1 field of vertex values on each tetrahedron."""
+        return np.linalg.solve(edges, (values[tet[:, 1:]] - values[tet[:, :1]])[..., None])[..., 0]
+
+    def check_stress3(self, rtol):
+        """3D von Mises: on each tetrahedron sigma = A eps(v) + B eps(u), A eps = muv tr(eps) I +
+        eta eps, B eps = lambda3 tr(eps) I + E/(1+nu) eps (docs/design.md, "Three dimensions"),
+        its measure sqrt(((sxx-syy)^2 + (syy-szz)^2 + (szz-sxx)^2)/2 + 3(sxy^2 + syz^2 + sxz^2)),
+        averaged at each vertex over its tetrahedra with their volumes as weights."""
+        f, mesh = self.f, self.tetrahedra()
+        if mesh is None:
+            return
+        tet, edges, volume = mesh
+
+        def strain(prefix):       # eps[t, i, j] = (d u_j/d x_i + d u_i/d x_j)/2
+            grad = np.stack([self.gradient(tet, edges, f[f"{prefix}_{axis}"]) for axis in "xyz"], 2)
+            return 0.5 * (grad + grad.transpose(0, 2, 1))
+        E, nu, muv, eta = self.real("E"), self.real("nu"), self.real("muv"), self.real("eta")
+        ev, eu = strain("v"), strain("u")
+        trace = muv * np.trace(ev, axis1=1, axis2=2) + self.elastic_lambda() * np.trace(eu, axis1=1, axis2=2)
+        sigma = trace[:, None, None] * np.eye(3) + eta * ev + E / (1 + nu) * eu
+        sxx, syy, szz = sigma[:, 0, 0], sigma[:, 1, 1], sigma[:, 2, 2]
+        vm = np.sqrt(((sxx - syy) ** 2 + (syy - szz) ** 2 + (szz - sxx) ** 2) / 2
+                     + 3 * (sigma[:, 0, 1] ** 2 + sigma[:, 1, 2] ** 2 + sigma[:, 0, 2] ** 2))
+        weight, total = np.zeros(len(f)), np.zeros(len(f))
+        for k in range(4):
+            np.add.at(weight, tet[:, k], volume)
+            np.add.at(total, tet[:, k], volume * vm)
+        mine = total / weight
+        worst = np.abs(mine - f["von_mises"]).max()
+        self.expect(worst <= rtol * max(np.abs(mine).max(), 1e-300),
+                    f"von_mises: fields.txt differs from its recomputation (tetrahedra) by {worst:.3e} "
+                    f"(largest {np.abs(mine).max():.3e}, bound {rtol:g} of it)")
+
     def check_zones(self, expected):
         want = [int(x) for x in expected.split(",")]
         got = [self.zones[k] for k in self.ZONES]
@@ -289,7 +449,8 @@ class Checker:
         nodes, the body shears and carries load between them: only v_nu = g(x) at the nodes
         at the bound is known, and only when every node is at the bound. A body force makes
         the stress vary along the height, which the viscoelastic law couples to the width:
-        then only the total force is known."""
+        then only the total force is known. In 3D (column3d) the same holds with w = (0,1,0), L
+        the area of Gamma3 and |Omega| = L times the height: the forces below are per unit area."""
         c, h, ch, law = self.c, self.h, self.ch, self.scene
         load, T, dt = self.real("load"), self.real("T"), self.real("dt")
         rho, g = self.real("rho"), law.g(c["x"])
@@ -348,7 +509,8 @@ class Checker:
         worst = int(np.argmax(err_v - allowed))
         self.expect((err_v <= allowed).all(), f"v_nu differs from min(p^-1(q), g) = {vexact[worst]} by "
                     f"{err_v[worst]:.3e} > {allowed[worst]:.3e} at x = {c['x'][worst]}")
-        self.expect(np.abs(c["lambda_tau"]).max() == 0.0 or self.real("mu") > 0, "lambda_tau != 0 without friction")
+        friction = np.abs(c["lambda_tau"]).max() + (np.abs(c["lambda_tau2"]).max() if self.dim == 3 else 0.0)
+        self.expect(friction == 0.0 or self.real("mu") > 0, "lambda_tau != 0 without friction")
         if (q_steps > 0).all():
             # the stress error of each step: its inertia bound, and that of the acceleration
             # along the known answer (absolute, per unit length)
@@ -356,41 +518,209 @@ class Checker:
 
     def check_uniaxial_strain(self, q_steps, stress_error):
         """The column pressed at every step is in uniaxial stress, sigma_yy = -q(t_n), sigma_xx =
-        sigma_xy = 0, up to inertia: its strain is uniform, and the scheme's backward Euler on
-        the two equations sigma_xx = 0, sigma_yy = -q of the Kelvin-Voigt law (docs/design.md,
-        "The discrete problem") gives eps_xx and eps_yy at T exactly, for plane stress or plane strain. The
+        sigma_xy = 0 (in 3D also sigma_zz = sigma_xz = sigma_yz = 0), up to inertia: its strain is
+        uniform, and the scheme's backward Euler on the two equations sigma_xx = 0, sigma_yy = -q
+        of the Kelvin-Voigt law (docs/design.md, "The discrete problem"; in 3D "Three
+        dimensions", where the lateral strains are equal, eps_zz = eps_xx, and tr eps = 2 eps_xx
+        + eps_yy) gives eps_xx and eps_yy at T exactly, for plane stress, plane strain or 3D. The
         displacement of fields.txt must be affine, with those strains, to the bound that the
         stress error of each step (stress_error: its inertia) leaves at T through the same
         recurrence (e_n = R e_{n-1} + S dq_n, |e_n| <= |R| |e_{n-1}| + |S| dq_n in the infinity
         norm: an early step's error fades with the law's memory), plus round-off. Measured:
         1e-10 relative after 20 steps, against a bound of 8e-8 there; the two planes differ
-        by 4% (eps_yy) and 20% (eps_xx), and lambda 1e-5 off moves eps_xx by 6e-6."""
+        by 4% (eps_yy) and 20% (eps_xx), and lambda 1e-5 off moves eps_xx by 6e-6. In 3D
+        (column3d): 1.7e-10 (eps_xx), 6e-11 (eps_yy) against a bound of 8e-8; plane stress's
+        answer is 0.25% (eps_xx) and 0.05% (eps_yy) away."""
         E, nu, mu1, mu2, k = self.real("E"), self.real("nu"), self.real("muv"), self.real("eta"), self.real("dt")
         plane_strain, lam = self.plane_strain(), self.elastic_lambda()
         shear = E / (1 + nu)
+        lateral = 2 if self.dim == 3 else 1         # the axes of eps_xx (x, and z in 3D): tr eps = lateral eps_xx + eps_yy
         exx = eyy = 0.0
-        lhs = np.array([[mu1 + mu2 + k * (lam + shear), mu1 + k * lam], [mu1 + k * lam, mu1 + mu2 + k * (lam + shear)]])
+        lhs = np.array([[lateral * mu1 + mu2 + k * (lateral * lam + shear), mu1 + k * lam],
+                        [lateral * (mu1 + k * lam), mu1 + mu2 + k * (lam + shear)]])
         # e_n = R e_{n-1} + S q_n for e = (eps_xx, eps_yy): the rates L^-1 (C e - (0, q)), e += k rate
-        C = np.array([[-(lam + shear), -lam], [-lam, -(lam + shear)]])
+        C = np.array([[-(lateral * lam + shear), -lam], [-lateral * lam, -(lam + shear)]])
         R = np.eye(2) + k * np.linalg.solve(lhs, C)
         S = k * np.linalg.solve(lhs, np.array([0.0, -1.0]))
         bound = 0.0
         for q, dq in zip(q_steps, stress_error):   # the rates (b, a) of eps_xx, eps_yy at step n
-            rhs = np.array([-lam * (exx + eyy) - shear * exx, -q - lam * (exx + eyy) - shear * eyy])
+            rhs = np.array([-lam * (lateral * exx + eyy) - shear * exx, -q - lam * (lateral * exx + eyy) - shear * eyy])
             b, a = np.linalg.solve(lhs, rhs)
             exx, eyy = exx + k * b, eyy + k * a
             bound = np.abs(R).sum(1).max() * bound + np.abs(S).max() * dq
         tolerance = bound / abs(eyy) + 1e-9
         f = self.f
-        basis = np.c_[np.ones(len(f)), f["x"], f["y"]]
-        cx = np.linalg.lstsq(basis, f["u_x"], rcond=None)[0]
-        cy = np.linalg.lstsq(basis, f["u_y"], rcond=None)[0]
-        affine = max(np.abs(basis @ cx - f["u_x"]).max(), np.abs(basis @ cy - f["u_y"]).max()) / abs(eyy)
+        axes = ("x", "y", "z") if self.dim == 3 else ("x", "y")
+        basis = np.c_[np.ones(len(f)), np.stack([f[axis] for axis in axes], 1)]
+        fits = [np.linalg.lstsq(basis, f[f"u_{axis}"], rcond=None)[0] for axis in axes]
+        affine = max(np.abs(basis @ fit - f[f"u_{axis}"]).max() for axis, fit in zip(axes, fits)) / abs(eyy)
         self.expect(affine <= tolerance, f"uniaxial column: the displacement is not affine (off by {affine:.3e} of eps_yy, "
                     f"inertia bound {tolerance:.3e})")
-        for name, got, want in (("eps_xx", cx[1], exx), ("eps_yy", cy[2], eyy)):
-            self.expect(abs(got - want) <= tolerance * abs(want), f"uniaxial column ({'plane strain' if plane_strain else 'plane stress'}): "
+        model = "3D" if self.dim == 3 else "plane strain" if plane_strain else "plane stress"
+        strains = (("eps_xx", fits[0][1], exx), ("eps_yy", fits[1][2], eyy))
+        if self.dim == 3:
+            strains += (("eps_zz", fits[2][3], exx),)                       # eps_zz = eps_xx
+        for name, got, want in strains:
+            self.expect(abs(got - want) <= tolerance * abs(want), f"uniaxial column ({model}): "
                         f"{name} = {got:.12e}, the Kelvin-Voigt law gives {want:.12e} (inertia bound {tolerance:.3e} relative)")
+
+    def check_slide(self, rtol):
+        """Known answer of the oblique slide (oblique-slide3d.scene): a block on a flat Gamma3,
+        launched along a tangent that is no mesh axis, sliding at the bound v_nu = g on every
+        node. At every recorded step where every node is in zone 3 (bound slip):
+        - per node, the disk law: |lambda_tau| = mu p(g) to rtol p(g), and lambda_tau along the
+          slip v_tau, same direction (lambda_tau is the stress on the slot; the force on the
+          body is -w lambda_tau): |sin| of their angle below 1e-8 (the nodes slide at many
+          times g, where the solver's velocity tolerance tol g turns v_tau by far less);
+        - the total friction force F = (tangential_force, tangential_force2) of
+          contact_history.txt, which is sum_i w_i lambda_tau,i (checked against the nodes'
+          rows), has the length of the Tresca force mu p(g) A (A = sum w_i, the contact area)
+          to within the spread delta of the nodes' slip directions d_i around their weighted
+          mean direction e: each lambda_tau,i is mu p(g) times a unit vector within delta
+          (+ 1e-8) of e, so F lies in that cone and sum w_i mu p(g) cos(delta) <= |F| <= mu p(g)
+          A (cos delta >= 1 - delta^2/2), up to the nodes' rtol p(g); and the force on the body,
+          -F, points along -e, within that same angle;
+        - a per-component (square) law, which clamps lambda_tau and lambda_tau2 to [-mu p(g),
+          mu p(g)] each, would give mu p(g) sum w_i (sign v_tau,i, sign v_tau2,i): it must differ
+          from mu p(g) A by more than 30% (sqrt(2) - 1 = 41% for a slip along (1,1)/sqrt(2)),
+          or the run does not tell the disk law from it.
+        Then the block's momentum: summing the step equation with w = t1 and w = t2 (constant
+        tangents; a, b vanish on them, and no Dirichlet condition holds the block) gives
+        exactly rho int v_n = rho int v_{n-1} - k F_n in (t1, t2), without a tangential load. So
+        its mean tangential velocity at T is V - (k/m) sum_n F_n (m = rho |Omega|, the volume
+        from the tetrahedra; checked to round-off with the F_n of contact_history.txt, measured
+        3e-13 relative), and the rigid-body answer (V - mu p(g) A T/m) along the launch
+        direction e0 = V/|V| holds to (k/m) sum_n |F_n - mu p(g) A e0| <= (k/m) sum_n
+        sum_i w_i mu p(g) (|d_i,n - e0| + 1e-8) + rtol p(g) A: it needs every step recorded,
+        each with every node in zone 3 (the block stiff or not: only the slip directions
+        enter). Measured on oblique-slide3d (20 steps): |lambda_tau| off by 3e-14 p(g) at most,
+        |sin| 5e-14, spread 1.5e-2 rad at step 1, 3e-6 from step 8, |F| = 1 - 2e-5 at step 1
+        and 1 - 1e-12 at T, the square law 41% above, the mean velocity 1.9e-5 m/s off 0.6
+        against a bound of 1.7e-4 m/s."""
+        if not self.expect(self.dim == 3, "--slide: not a 3D run (summary.txt: dimension 3)"):
+            return
+        if not self.expect(self.params["problem"] == "original", "--slide: the known answer mu p(g) is the original "
+                           "problem's (the penalty problem's bound is mu p(v_nu), v_nu > g at the bound)"):
+            return
+        c, law, mu = self.c, self.scene, self.real("mu")
+        nodes, weight = len(c), c["weight"]
+        g = law.g(c["x"])
+        pg = law.p(g)
+        bound = mu * pg                                      # mu p(g) at each node
+        total = float(np.sum(weight * bound))                # the Tresca force mu p(g) A
+        scale = float(np.sum(weight * np.where(pg > 0, pg, 1.0)))         # p(g) A, the stresses' rtol
+        if not self.expect(total > 0, f"--slide: mu p(g) A = {total}: no friction to check"):
+            return
+        # one frame for every node (a flat Gamma3): the nodes' forces add as vectors in (t1, t2)
+        frame = np.stack([c[name] for name in FRAME], 1)
+        spread = np.abs(frame - frame[0]).max()
+        if not self.expect(spread <= 1e-12, f"--slide: the nodes' frames differ by {spread:.3e} (a curved Gamma3, or "
+                           "Dirichlet conditions that turn a node's frame): the tangential forces do not add as vectors"):
+            return
+        t1, t2 = frame[0, 3:6], frame[0, 6:9]
+        nh = suite.read_table(os.path.join(self.folder, "contact_nodes_history.txt"))
+        if not self.expect(len(nh) % nodes == 0, f"contact_nodes_history.txt: {len(nh)} rows for {nodes} nodes"):
+            return
+
+        def rows(name):
+            return nh[name].reshape(-1, nodes)
+        steps = rows("step")[:, 0].astype(int)
+        sliding = (rows("zone") == 3).all(1)
+        if not self.expect(sliding.any(), "--slide: no recorded step has every node in zone 3 (bound slip)"):
+            return
+        ch = self.ch
+        deviation = {}                                       # step -> sum_i w_i mu p(g) |d_i - e0| (+ 1e-8)
+        launch = None
+        given = suite.read_scene(os.path.join(self.folder, "scene.scene")).data.get("initial_velocity")
+        if given:
+            v0 = np.array([float(w) for w in given[0]] + [0.0] * (3 - len(given[0])))
+            launch = np.array([v0 @ t1, v0 @ t2])             # V in (t1, t2)
+        failed = set()
+
+        def first(kind, condition, message):
+            """expect(), reporting only the first step where a check of this kind fails."""
+            if condition or kind in failed:
+                return condition
+            failed.add(kind)
+            return self.expect(condition, message)
+        for row in np.flatnonzero(sliding):
+            step = int(steps[row])
+            vt, vt2, lt, lt2 = rows("v_tau")[row], rows("v_tau2")[row], rows("lambda_tau")[row], rows("lambda_tau2")[row]
+            speed, stress = np.hypot(vt, vt2), np.hypot(lt, lt2)
+            off = (np.abs(stress - bound) / pg).max()
+            first("bound", off <= rtol, f"--slide, step {step}: |lambda_tau| differs from mu p(g) by {off:.3e} p(g) "
+                  f"(bound {rtol:g})")
+            sine = (np.abs(vt * lt2 - vt2 * lt) / np.maximum(speed * stress, 1e-300)).max()
+            along = bool((vt * lt + vt2 * lt2 > 0).all())
+            first("along", sine <= 1e-8 and along, f"--slide, step {step}: lambda_tau not along v_tau: |sin| up to "
+                  f"{sine:.3e} (bound 1e-8), {'same' if along else 'opposite at some node'} direction")
+            slip = np.c_[vt, vt2] / speed[:, None]           # the unit slip directions d_i
+            mean = (weight[:, None] * slip).sum(0)
+            mean /= np.hypot(*mean)
+            delta = float(np.arctan2(np.abs(slip[:, 0] * mean[1] - slip[:, 1] * mean[0]), slip @ mean).max())
+            cone = delta + 1e-8                              # lambda_i within 1e-8 of d_i
+            force = np.array([ch["tangential_force"][step - 1], ch["tangential_force2"][step - 1]])
+            mine = np.array([np.sum(weight * lt), np.sum(weight * lt2)])
+            first("sum", np.abs(force - mine).max() <= rtol * total,
+                  f"--slide, step {step}: contact_history's force ({force[0]:.15e}, {force[1]:.15e}) != the nodes' "
+                  f"sum w lambda_tau ({mine[0]:.15e}, {mine[1]:.15e})")
+            length = float(np.hypot(*force))
+            low, high = np.cos(min(cone, np.pi / 2)) * total - rtol * scale, total + rtol * scale
+            first("length", low <= length <= high, f"--slide, step {step}: the friction force |F| = {length:.15e}, the "
+                  f"Tresca force mu p(g) A = {total:.15e}: outside [{low:.15e}, {high:.15e}] (slip directions spread "
+                  f"{delta:.3e} rad)")
+            angle = float(np.arctan2(abs(force[0] * mean[1] - force[1] * mean[0]), force @ mean))
+            first("direction", angle <= cone, f"--slide, step {step}: the friction force on the body -F is {angle:.3e} rad "
+                  f"off -(mean slip direction) (bound: the spread {cone:.3e} rad)")
+            # the square law: each component clamped on its own, where each slips (both must)
+            moving = min(np.abs(vt).min(), np.abs(vt2).min()) / g.max()
+            if first("axis", moving > 1e-6, f"--slide, step {step}: a node slides along a mesh axis (a component of "
+                     f"{moving:.3e} g): the run does not tell the disk law from the square law"):
+                square = np.hypot(np.sum(weight * bound * np.sign(vt)), np.sum(weight * bound * np.sign(vt2)))
+                first("square", abs(square / total - 1) > 0.3, f"--slide, step {step}: a square law would give a force "
+                      f"of {square:.6e}, within 30% of mu p(g) A = {total:.6e}: the run does not tell the laws apart")
+            if launch is not None:
+                e0 = launch / np.hypot(*launch)
+                deviation[step] = float(np.sum(weight * bound * (np.hypot(*(slip - e0).T) + 1e-8))) + rtol * scale
+        # the mean tangential velocity at T against the rigid body, when every step slid at the bound
+        dt, count = self.real("dt"), len(self.h)
+        tangential_load = [abs(np.dot(law.body_force + [0.0] * (3 - len(law.body_force)), t)) for t in (t1, t2)]
+        if not self.expect(launch is not None and np.hypot(*launch) > 0, "--slide: the scene gives no tangential "
+                           "initial_velocity: no rigid-body answer"):
+            return
+        if not self.expect(max(tangential_load) == 0 and self.real("load") == 0, "--slide: a tangential body force or "
+                           "a traction (load != 0): the rigid-body answer of a free slide does not apply"):
+            return
+        mesh = self.tetrahedra()
+        if mesh is None:
+            return
+        tet, _, volume = mesh
+        f, rho = self.f, self.real("rho")
+        mass = rho * float(volume.sum())
+        momentum = np.array([rho * np.sum(volume * np.mean(f[f"v_{axis}"][tet], 1)) for axis in "xyz"])  # rho int v (P1)
+        mean = np.array([momentum @ t1, momentum @ t2]) / mass
+        speed0 = float(np.hypot(*launch))
+        # the momentum identity itself, every step's force of contact_history.txt: round-off
+        # (the back-substitution's stiffness terms cancel in the sum; measured 3e-13 relative)
+        forces = np.c_[ch["tangential_force"], ch["tangential_force2"]]
+        balance = launch - dt / mass * forces.sum(0)
+        off = float(np.hypot(*(mean - balance)))
+        roundoff = allowed = 1e-10 * (speed0 + dt / mass * np.hypot(*forces.T).sum())
+        self.expect(off <= allowed, f"--slide: the mean tangential velocity at T ({mean[0]:.15e}, {mean[1]:.15e}) of "
+                    f"fields.txt is {off:.3e} m/s off V - (k/m) sum_n F_n = ({balance[0]:.15e}, {balance[1]:.15e}) of "
+                    f"contact_history.txt (bound {allowed:.3e}: round-off): the block's momentum does not balance")
+        missing = [n for n in range(1, count + 1) if n not in deviation]
+        if not self.expect(not missing, f"--slide: the rigid-body answer needs every step recorded with every node in "
+                           f"zone 3; not step {missing[0] if missing else ''} ({len(missing)} steps)"):
+            return
+        rigid = (speed0 - total * dt * count / mass) * launch / speed0
+        off = float(np.hypot(*(mean - rigid)))
+        allowed = dt / mass * sum(deviation.values()) + roundoff
+        self.expect(rigid @ launch > 0, f"--slide: the rigid block stops before T (V - mu p(g) A T/m = "
+                    f"{speed0 - total * dt * count / mass:.6e}): no free slide to check")
+        self.expect(off <= allowed, f"--slide: the mean tangential velocity at T ({mean[0]:.12e}, {mean[1]:.12e}) is "
+                    f"{off:.3e} m/s off the rigid-body answer V - mu p(g) A T/m = {speed0 - total * dt * count / mass:.12e} "
+                    f"along the launch (bound {allowed:.3e}: the slip directions' deviation from it)")
 
     def compare_tables(self, other_folder, name, families, exact, rtol, floors=None):
         """Columns of one family (velocities, stresses, displacements, energy terms, forces)
@@ -419,18 +749,22 @@ class Checker:
         c = suite.read_table(os.path.join(self.folder, "contact.txt"))        # (compare may come without load)
         scene = suite.RunScene(self.folder, c.params)
         g = scene.g(c["x"])
+        # a 3D run's added columns (docs/design.md, "Three dimensions") in their families
+        three = run_dimension(suite.read_summary(self.folder)) == 3
+        extra = (lambda *names: names) if three else (lambda *names: ())
         self.compare_tables(other_folder, "contact.txt",
-                            (("v_nu", "v_tau"), ("p_nu", "lambda_nu", "lambda_tau")), (), rtol,
+                            (("v_nu", "v_tau") + extra("v_tau2"),
+                             ("p_nu", "lambda_nu", "lambda_tau") + extra("lambda_tau2")), (), rtol,
                             floors=(float(g.max()), float(scene.p(g).max())))
-        self.compare_tables(other_folder, "fields.txt", (("u_x", "u_y"), ("v_x", "v_y")), (), rtol)
+        self.compare_tables(other_folder, "fields.txt", (("u_x", "u_y") + extra("u_z"), ("v_x", "v_y") + extra("v_z")), (), rtol)
         # the histories, when both folders have them; the total forces at least at the scale of
         # p(g) over the whole of Gamma3 (a run whose forces are round-off compares as such)
         force_floor = float(scene.p(g).max()) * float(np.abs(c["weight"]).sum())
         for name, families, exact, floors in (
                 ("history.txt", (("kinetic", "elastic", "numerical_dissipation", "viscous_dissipation",
                                   "contact_dissipation", "external_work", "kinetic_jump", "elastic_jump"),), (), None),
-                ("contact_history.txt", (("normal_force", "tangential_force"),), self.ZONES + ("x_B", "x_C"),
-                 (force_floor,))):
+                ("contact_history.txt", (("normal_force", "tangential_force") + extra("tangential_force2"),),
+                 self.ZONES + ("x_B", "x_C"), (force_floor,))):
             if os.path.isfile(os.path.join(self.folder, name)) and os.path.isfile(os.path.join(other_folder, name)):
                 self.compare_tables(other_folder, name, families, exact, rtol, floors=floors)
 
@@ -449,6 +783,8 @@ def main():
     parser.add_argument("--rtol", type=float, default=1e-9, help="tolerance of every check (relative)")
     parser.add_argument("--zones", type=zone_counts, help="expected FREE,DAMPED_SLIP,DAMPED_STICK,BOUND_SLIP,BOUND_STICK counts")
     parser.add_argument("--column", action="store_true", help="check the column scene's known answer")
+    parser.add_argument("--slide", action="store_true", help="check the oblique slide's known answer (3D, every node "
+                        "sliding at the bound: the disk law, the total friction force, the block's momentum)")
     parser.add_argument("--compare", help="another output folder that must agree to --rtol")
     parser.add_argument("--other-law", action="store_true",
                         help="the run solves another law than the paper's p(r) = c_nu r_+ (a changed "
@@ -457,6 +793,8 @@ def main():
     check = Checker(args.folder, other_law=args.other_law)
     if check.load():
         check.check_contact(args.rtol)
+        if check.dim == 3:
+            check.check_frame(args.rtol)
         check.check_energy(args.rtol)
         check.check_series()
         check.check_stress(args.rtol)
@@ -464,6 +802,8 @@ def main():
             check.check_zones(args.zones)
         if args.column:
             check.check_column(args.rtol)
+        if args.slide:
+            check.check_slide(args.rtol)
         if args.compare:
             check.compare(args.compare, args.rtol)
     for failure in check.failures:

@@ -60,9 +60,11 @@ while IFS='|' read -r name options abs rel check; do
 done < tests/cases.txt
 
 # run_case NAME: solve and check physics (and, for --independent cases, agreement with
-# tests/independent_solver.py to 1e-9); leaves the outputs in tests/work/NAME
+# tests/independent_solver.py to 1e-9; --independent3d: tests/independent_solver3d.py);
+# leaves the outputs in tests/work/NAME
 run_case() {
-  local name="$1" log="$work/$1.log" check="${case_check[$1]}" independent=0
+  local name="$1" log="$work/$1.log" check="${case_check[$1]}" independent=0 solver=tests/independent_solver.py
+  case " $check " in *" --independent3d "*) independent=1; solver=tests/independent_solver3d.py; check="${check/--independent3d/}" ;; esac
   case " $check " in *" --independent "*) independent=1; check="${check/--independent/}" ;; esac
   # shellcheck disable=SC2086
   if ! solve ${case_options[$name]} -out "$work/$name" > "$log" 2>&1; then
@@ -71,8 +73,8 @@ run_case() {
   # shellcheck disable=SC2086
   "$PYTHON" tests/check_results.py "$work/$name" $check >> "$log" 2>&1 || return 1
   if [ "$independent" = 1 ]; then
-    "$PYTHON" tests/independent_solver.py --compare "$work/$name" --rtol 1e-9 >> "$log" 2>&1 \
-      || { echo "disagrees with tests/independent_solver.py" >> "$log"; return 1; }
+    "$PYTHON" "$solver" --compare "$work/$name" --rtol 1e-9 >> "$log" 2>&1 \
+      || { echo "disagrees with $solver" >> "$log"; return 1; }
   fi
   return 0
 }
@@ -95,12 +97,12 @@ compare_numeric() {
   local args=() field floor
   while read -r field floor; do args+=(-a "$floor:$field"); done < <(
     awk -v abs="$abs" '
-      BEGIN { split("v_nu v_tau v_x v_y", a); for (k in a) fam[a[k]] = "velocity"
-              split("p_nu lambda_nu lambda_tau friction_bound", a); for (k in a) fam[a[k]] = "stress"
+      BEGIN { split("v_nu v_tau v_x v_y v_tau2 v_z", a); for (k in a) fam[a[k]] = "velocity"
+              split("p_nu lambda_nu lambda_tau friction_bound lambda_tau2", a); for (k in a) fam[a[k]] = "stress"
               split("kinetic elastic numerical_dissipation viscous_dissipation contact_dissipation external_work kinetic_jump elastic_jump", a)
               for (k in a) fam[a[k]] = "energy"
-              split("normal_force tangential_force", a); for (k in a) fam[a[k]] = "force"
-              split("u_x u_y", a); for (k in a) fam[a[k]] = "displacement" }
+              split("normal_force tangential_force tangential_force2", a); for (k in a) fam[a[k]] = "force"
+              split("u_x u_y u_z", a); for (k in a) fam[a[k]] = "displacement" }
       /^# cnu / { cnu = $3 } /^# g / { g = $3 }
       /^#/ { if (!data) { header = $0 }; next }
       { if (!data) { data = 1; nh = split(header, h); for (i = 2; i <= nh; i++) family[i - 1] = fam[h[i]] }
@@ -460,6 +462,13 @@ expect_failure "repeated option" 2 "option -nx is given twice" -nx 8 -nx 9
 expect_failure "real not a number" 2 "option -dt must be a real number, got 'abc'" -dt abc
 expect_failure "real half a number" 2 "option -E must be a real number, got '1e'" -E 1e
 expect_failure "a 3D mesh for a 2D scene" 3 "option -mesh: 'tests/data/tetrahedron.msh' is a 3D mesh, but the scene .*paper.scene is 2D \\(geometry rectangle, vectors of two components" -mesh tests/data/tetrahedron.msh
+expect_failure "a 2D mesh for a 3D scene" 3 "option -mesh: '.*mesh.msh' is a 2D mesh, but the scene .*column3d.scene is 3D \\(geometry box" -scene column3d -mesh "$work/paper-coarse-original/mesh.msh"
+expect_failure "a 3D mesh without the scene's labels" 3 "'tests/data/tetrahedron.msh': the scene's dirichlet label 5 is not a physical surface of the mesh" -scene column3d -mesh tests/data/tetrahedron.msh
+expect_failure "a z value in a scene of a 2D geometry" 3 "traction with a z component: a z value, but geometry rectangle is 2D" -scene tests/data/z-in-2d.scene
+expect_failure "-plane for a 3D body" 2 "option -plane: plane stress or strain is a 2D model; geometry box is a 3D body" -scene column3d -plane strain
+expect_failure "-nz for a 2D body" 2 "option -nz: cells along z, for a 3D body; geometry rectangle is 2D" -nz 3
+expect_failure "-adapt for a 3D body" 2 "option -adapt: mesh adaptation is 2D only" -scene column3d -adapt 1
+expect_failure "-Ddimension=3 with a 2D scene" 3 "geometry rectangle is 2D, but the run was started with -Ddimension=3" -Ddimension=3
 expect_failure "a choice out of its list" 2 "option -plane = 'Strain' is not one of stress\|strain" -plane Strain
 expect_failure "real overflows" 2 "option -load = 1e999 is not a finite number" -load 1e999
 expect_failure "integer not whole" 2 "option -nx must be a whole number, got '1.5'" -nx 1.5
@@ -576,6 +585,46 @@ scene_agreement unloading-coarse -scene unloading -nx 16 -ny 8 -dt 0.05
 scene_agreement power-damping-coarse -scene power-damping -nx 16 -ny 8 -dt 0.05
 scene_agreement bound-profile-coarse -scene bound-profile -nx 16 -ny 8 -dt 0.05
 scene_agreement cylinder-coarse -scene cylinder -nx 12 -dt 0.05
+
+# ---- 3D (docs/design.md, "Three dimensions"): the disk law on the three Newtons and the
+# fixed point, the slab against the 2D plane-strain solution, a 3D run that repeats itself
+scene_agreement slide3d -scene oblique-slide3d
+scene_agreement slab3d-coarse -scene slab3d -nx 8 -ny 4 -nz 1 -T 0.2
+diag="$work/fixedpoint3d.diag"; : > "$diag"; status=0
+for name in slide3d slab3d-coarse; do
+  opts=(-scene oblique-slide3d); [ "$name" = slab3d-coarse ] && opts=(-scene slab3d -nx 8 -ny 4 -nz 1 -T 0.2)
+  solve "${opts[@]}" -solver fixedpoint -out "$work/$name-fixedpoint" >> "$diag" 2>&1 \
+    && "$PYTHON" tests/check_results.py "$work/$name-fixedpoint" --compare "$work/$name" --rtol 1e-8 >> "$diag" 2>&1 || status=1
+done
+report $status "3D: the fixed point = Newton to 1e-8 (oblique-slide3d, slab3d coarse: the disk's pair update)" "$diag"
+# The slab between walls (u_z = 0 on z = 0 and z = Lz) is the plane-strain problem: at T, x_B
+# equal and x_C within one mesh spacing of the 2D solution's, and the normal force per depth
+# closer to it on the finer mesh (measured: 2.2e-4 then 1.2e-4 relative, 16x8 then 32x16)
+diag="$work/slab3d-strain.diag"; : > "$diag"; status=0
+previous=1
+for n in 16 32; do
+  solve -scene slab3d -nx "$n" -ny $((n / 2)) -nz 2 -quiet -out "$work/slab3d-$n" >> "$diag" 2>&1 || status=1
+  solve -scene paper -plane strain -nx "$n" -ny $((n / 2)) -quiet -out "$work/slab2d-$n" >> "$diag" 2>&1 || status=1
+  verdict=$(awk -v h="$(awk -v n="$n" 'BEGIN { print 2 / n }')" -v previous="$previous" '
+    FNR == 1 { file++ } /^#/ { next } { last[file] = $0 }
+    END { split(last[1], a); split(last[2], b)
+          lz = 0.25; d = a[3] / lz - b[3]; if (d < 0) d = -d; rel = d / b[3]
+          xc = a[11] - b[11]; if (xc < 0) xc = -xc
+          ok = a[10] == b[10] && xc <= h * 1.000001 && rel < previous
+          printf "%s %.3e x_B %s %s x_C %s %s normal force per depth %.9g against %.9g\n", ok ? "ok" : "FAIL", rel, a[10], b[10], a[11], b[11], a[3] / lz, b[3] }' \
+    "$work/slab3d-$n/contact_history.txt" "$work/slab2d-$n/contact_history.txt")
+  echo "${n}x$((n / 2)): $verdict" >> "$diag"
+  case "$verdict" in ok*) previous=$(echo "$verdict" | cut -d' ' -f2) ;; *) status=1 ;; esac
+done
+report $status "3D: the slab between walls = 2D plane strain (x_B, x_C within one spacing, the normal force converging)" "$diag"
+diag="$work/repeat3d.diag"; : > "$diag"; status=0
+solve -scene "$work/slide3d/scene.scene" -mesh "$work/slide3d/mesh.msh" -out "$work/slide3d-repeat" >> "$diag" 2>&1 || status=1
+for f in "${OUTPUT_FILES[@]}"; do
+  cmp -s <(grep -v -E '^(# )?(scene|out|mesh|mesh_source|scene_file|nx|ny|nz|time_[a-z_]*) ' "$work/slide3d/$f") \
+         <(grep -v -E '^(# )?(scene|out|mesh|mesh_source|scene_file|nx|ny|nz|time_[a-z_]*) ' "$work/slide3d-repeat/$f") \
+    || { echo "$f differs" >> "$diag"; status=1; }
+done
+report $status "3D: a run repeats itself from its own scene.scene and mesh.msh" "$diag"
 
 # OUT/scene.scene holds the values the run used: with OUT/mesh.msh it repeats the run, command-
 # line overrides included (outputs identical but for the lines that name the run's own files
@@ -1172,6 +1221,34 @@ found = suite.stretches(x, [0] * len(x), pieces)
 assert np.allclose([(a, b) for _, a, b, _ in found], [(0, 0.6), (1.4, 2)]), found
 PY
 report $status "a contact boundary in two pieces: curves broken, shading and zone map cells stop at the gap" "$diag"
+
+# A 3D run (docs/figures.md, "The figures of a 3D run"): every figure of a small slab3d run, its
+# comparison with the 2D paper run, and its animation (from contact_nodes_history.txt, no vtk/),
+# each a PNG or a GIF; corrupt 3D inputs refused in one line, leaving no figures/.
+diag="$work/figures-3d.diag"; : > "$diag"; status=0
+slab="$work/figures-slab3d"
+rm -rf "$slab"
+solve -scene slab3d -nx 8 -ny 4 -nz 1 -dt 0.1 -out "$slab" >> "$diag" 2>&1 || { echo "the slab3d run failed" >> "$diag"; status=1; }
+./run.sh figures "$slab" "$paper" > "$work/figures-3d.log" 2>> "$diag" || { echo "./run.sh figures (3D and 2D) failed" >> "$diag"; status=1; }
+./run.sh animate "$slab" >> "$work/figures-3d.log" 2>> "$diag" || { echo "./run.sh animate (3D) failed" >> "$diag"; status=1; }
+for file in "$slab"/figures/{contact_at_T,histories,deformed,zone_map,compare_contact}.png "$slab/figures/animation.gif"; do
+  grep -qxF "$file" "$work/figures-3d.log" || { echo "$file: not listed" >> "$diag"; status=1; }
+  "$PYTHON" -c 'import sys; from PIL import Image
+image = Image.open(sys.argv[1]); kind = image.format; frames = getattr(image, "n_frames", 1); image.verify()
+assert kind == sys.argv[1].rsplit(".", 1)[1].upper() and (kind == "PNG" or frames > 1), (kind, frames)' "$file" >> "$diag" 2>&1 \
+    || { echo "$file: not a PNG, or a GIF of more than one frame" >> "$diag"; status=1; }
+done
+broken="$work/figures-slab3d-corrupt"
+for case in "run_figures contact.txt 13 nan contact.txt:[0-9]+: v_tau2 = nan is not a finite number" \
+            "run_figures fields.txt 9 inf fields.txt:[0-9]+: u_z = inf is not a finite number" \
+            "animate contact_nodes_history.txt 14 5 contact_nodes_history.txt:[0-9]+: zone = 5, not one of 0..4"; do
+  read -r tool file column value regex <<< "$case"
+  rm -rf "$broken"; cp -r "$slab" "$broken"; rm -rf "$broken/figures"
+  awk -v c="$column" -v v="$value" '!/^#/ && !done { done = 1; $c = v } 1' "$slab/$file" > "$broken/$file"
+  refused 2 "$regex" "$PYTHON" "plots/$tool.py" "$broken"
+  [ -e "$broken/figures" ] && { echo "$file: $broken/figures left behind" >> "$diag"; status=1; }
+done
+report $status "a 3D run: every figure, the comparison with a 2D run and the animation (PNG, GIF); corrupt 3D inputs refused" "$diag"
 # ---- end figures
 
 echo "$passed passed, $failed failed"

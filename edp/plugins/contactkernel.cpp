@@ -4,7 +4,9 @@
 //
 // 1. Linear algebra with one factorization of S = M/k + A + kB + C'W Kn C (symmetric
 //    positive definite; Dirichlet rows carry FreeFEM's tgv). CHOLMOD factorizes P S P' = L L'
-//    with an ordering (CAMD) that puts the contact degrees of freedom (those C touches) last,
+//    with an ordering that puts the contact degrees of freedom (those C touches) last (CAMD in
+//    2D; in 3D METIS's nested dissection of the others, then them: docs/performance.md, "Three
+//    dimensions", measured both),
 //    so the trailing block L_CC of L is the Cholesky factor of the Schur complement of S on
 //    Gamma3:
 //      - the Delassus matrix C S^-1 C' = G'G with G = L_CC^-1 (P C')_C, no solve per slot;
@@ -23,13 +25,15 @@
 // FreeFEM functions (they return 0 unless said; misuse stops the run with an error):
 //   contactKernelParameter(string name, real value)  a parameter, by its option name: cnu, mu,
 //       eps, problem (0 original, 1 penalty), penaltyform (0 compliant, 1 literal), tol, maxit,
-//       safeguard (0/1), r, dt; and the scene's damping family: damping (0 linear, 1 power,
+//       safeguard (0/1), r, dt, ordering (of S's factorization: 0 CAMD, 1 METIS on the interior);
+//       and the scene's damping family: damping (0 linear, 1 power,
 //       2 table), alpha
 //   contactKernelDampingTable(real[int] r, real[int] p)   the points of the table family
 //   contactKernelNodes(real[int] x, real[int] w, real[int] g, int[int] normalSlot,
 //       int[int] tangentSlot, int[int] tangentSlot2)  the contact nodes: weight, velocity bound,
 //       slots (-1: none; tangentSlot2, the second tangential slot of a 3D node, makes a pair
-//       with tangentSlot under the disk law); returns 1 if the law of contactlaw.hpp is unusable (checkLaw; the
+//       with tangentSlot under the disk law, or is alone where a Dirichlet condition fixes the
+//       first tangent); returns 1 if the law of contactlaw.hpp is unusable (checkLaw; the
 //       reason is printed on stderr)
 //   contactKernelNodeVelocity(matrix O)   v -> (v_nu, v_tau) of every node (rows 2i, 2i + 1;
 //       in 3D (v_nu, v_tau, v_tau2), rows 3i, 3i + 1, 3i + 2): what the nodes report (a node may
@@ -90,7 +94,8 @@
 //   contactNewtonEnd()   r back to the user's after a step
 //   contactKernelCounters(real[int] info)   [Newton iterates replaced by a fixed-point
 //       iteration, fixed-point sweeps, Newton matrix factorizations, low-rank corrections,
-//       refinements of corrected solves, Newton steps shortened, halvings of r], over the run
+//       refinements of corrected solves, Newton steps shortened, halvings of r, steps retried
+//       without the safeguards (a disk law's Newton: newton)], over the run
 //   contactKernelSourcesChanged(string folder)   1 if folder/contactkernel.cpp and
 //       folder/contactlaw.hpp are not the sources this kernel was built from (./run.sh passes
 //       their POSIX cksum as KERNEL_SOURCES_CKSUM), 0 if they are or if that is unknown
@@ -149,6 +154,7 @@ struct SolverParameters {
   int maxit = 50;
   bool safeguards = true;
   bool verbose = false;                        // -verbose: the Newton log (logIteration)
+  int ordering = 0;                            // of S's factorization: 0 CAMD, 1 METIS on the interior (factorizeOrFail)
 };
 SolverParameters SP;
 
@@ -170,6 +176,7 @@ long parameter(string *const &name, const double &value) {
     else if (key == "r") SP.r = value;
     else if (key == "dt") SP.dt = value;
     else if (key == "verbose") SP.verbose = value != 0;
+    else if (key == "ordering") SP.ordering = (int)value;
     else ExecError("contactKernelParameter: unknown parameter '" + key + "'");
   }
   if (law) N.ready = false;
@@ -194,7 +201,6 @@ long nodes(KN<double> *const &px, KN<double> *const &pw, KN<double> *const &pg, 
   int slots = 0;
   for (int i = 0; i < nn; i++) {
     slots += (ns[i] >= 0) + (ts[i] >= 0) + (ts2[i] >= 0);
-    if (ts2[i] >= 0 && ts[i] < 0) ExecError("contactKernelNodes: a node with a second tangential slot must have a first");
   }
   std::vector<int> owner(slots, -1);
   for (int i = 0; i < nn; i++)
@@ -215,7 +221,8 @@ long nodes(KN<double> *const &px, KN<double> *const &pw, KN<double> *const &pg, 
   for (int i = 0; i < nn; i++) {
     if (!(g[i] > 0)) ExecError("contactKernelNodes: every velocity bound g must be > 0");
     if (ts[i] >= 0) { L.normal[ts[i]] = 0; L.partner[ts[i]] = ns[i]; }
-    if (ts2[i] >= 0) { L.normal[ts2[i]] = 0; L.partner[ts2[i]] = ns[i]; L.pair[ts[i]] = ts2[i]; L.pair[ts2[i]] = ts[i]; }
+    if (ts2[i] >= 0) { L.normal[ts2[i]] = 0; L.partner[ts2[i]] = ns[i]; }
+    if (ts[i] >= 0 && ts2[i] >= 0) { L.pair[ts[i]] = ts2[i]; L.pair[ts2[i]] = ts[i]; }   // the disk
     for (long s : {ns[i], ts[i], ts2[i]}) if (s >= 0) N.weight[s] = w[i];
   }
   for (int j = 0; j < slots; j++) { L.setBound(j, g[owner[j]]); L.setAugmentation(j, SP.r); }
@@ -342,6 +349,37 @@ cholmod_sparse *upperFromMorse(MatriceMorse<double> &S) {
   return A;
 }
 
+// METIS (CHOLMOD's nested dissection through METIS_NodeND) on the interior unknowns, the
+// pattern of A (upper triangle) restricted to them, then the contact unknowns (member 1) last,
+// in their order; 1 if it worked
+int metisContactLast(cholmod_sparse *A, const std::vector<int> &member, std::vector<int> &perm) {
+  const int n = A->ncol;
+  const int *Ap = static_cast<int *>(A->p), *Ai = static_cast<int *>(A->i);
+  std::vector<int> position(n, -1), interior;
+  for (int i = 0; i < n; i++) if (!member[i]) { position[i] = interior.size(); interior.push_back(i); }
+  const int ni = interior.size();
+  std::vector<int> start(ni + 1, 0);
+  for (int j = 0; j < n; j++)
+    if (position[j] >= 0)
+      for (int e = Ap[j]; e < Ap[j + 1]; e++) if (position[Ai[e]] >= 0 && Ai[e] <= j) start[position[j] + 1]++;
+  for (int k = 0; k < ni; k++) start[k + 1] += start[k];
+  cholmod_sparse *B = cholmod_allocate_sparse(ni, ni, start[ni], 1, 1, 1, CHOLMOD_PATTERN, &F.common);
+  if (!B) return 0;
+  int *Bp = static_cast<int *>(B->p), *Bi = static_cast<int *>(B->i);
+  std::copy(start.begin(), start.end(), Bp);
+  for (int j = 0; j < n; j++)                        // A's columns come with their rows sorted
+    if (position[j] >= 0)
+      for (int e = Ap[j]; e < Ap[j + 1]; e++) if (position[Ai[e]] >= 0 && Ai[e] <= j) Bi[start[position[j]]++] = position[Ai[e]];
+  std::vector<int> order(std::max(ni, 1));
+  const int ok = ni == 0 || cholmod_metis(B, nullptr, 0, 1, order.data(), &F.common);
+  cholmod_free_sparse(&B, &F.common);
+  if (!ok) return 0;
+  int k = 0;
+  for (int q = 0; q < ni; q++) perm[k++] = interior[order[q]];
+  for (int i = 0; i < n; i++) if (member[i]) perm[k++] = i;
+  return 1;
+}
+
 long factorizeOrFail(MatriceMorse<double> *S, MatriceMorse<double> &C, int n) {
   cholmod_start(&F.common);
   F.started = true;
@@ -352,12 +390,13 @@ long factorizeOrFail(MatriceMorse<double> *S, MatriceMorse<double> &C, int n) {
   cholmod_sparse *A = S ? upperFromMorse(*S) : upperFromProducts();
   if (!A) return 2;
 
-  // the contact unknowns (columns of C) go last: CAMD with two constraint sets
+  // the contact unknowns (columns of C) go last: CAMD with two constraint sets, or (SP.ordering
+  // 1) METIS's nested dissection of the interior, then the contact unknowns
   C.COO();
   std::vector<int> member(n, 0);
   for (size_t k = 0; k < C.nnz; k++) if (C.aij[k] != 0) member[C.j[k]] = 1;
   std::vector<int> perm(n);
-  int ok = cholmod_camd(A, nullptr, 0, member.data(), perm.data(), &F.common);
+  int ok = SP.ordering == 1 ? metisContactLast(A, member, perm) : cholmod_camd(A, nullptr, 0, member.data(), perm.data(), &F.common);
   F.common.nmethods = 1;
   F.common.method[0].ordering = CHOLMOD_GIVEN;
   F.common.postorder = 0;
@@ -873,9 +912,10 @@ long nodal(KN<double> *const &pv, KN<double> *const &pLam, KNM<double> *const &p
   table.resize(nn, 12);
   for (int i = 0; i < nn; i++) {
     const NodeValues s = nodeValues(i, ov.data(), lam.data());
-    const int sn = N.normalSlot[i] >= 0 ? N.normalSlot[i] : N.tangentSlot[i];
+    // the force scale p(g) of the node (Slots::setBound), also where it has no slot at all
+    const double pg = dampedResponse(L.P, N.nodeG[i]), scale = pg > 0 ? pg : 1.;
     const double row[12] = {s.vn, s.vt, s.pn, s.ln, s.lt, (double)s.normal, (double)s.tangential, s.bound,
-                            L.forceScale[sn], (double)zone(s.normal, s.tangential), s.vt2, s.lt2};
+                            scale, (double)zone(s.normal, s.tangential), s.vt2, s.lt2};
     for (int k = 0; k < 12; k++) table(i, k) = row[k];
   }
   return 0;
@@ -1074,6 +1114,7 @@ struct Newton {
   long fallbacks = 0;                  // iterates the safeguard replaced by a fixed-point iteration
   long cuts = 0;                       // ... by a shortened Newton step
   long halvings = 0;                   // of r by the cycle guard
+  long retries = 0;                    // steps a disk's Newton solved again without its safeguards
   std::vector<double> seen;            // the cycle guard's fingerprints of the step's iterations
   std::vector<double> rDefault;        // r_j at the start of a step
   long generation = -1;                // the factor the base matrix belongs to
@@ -1562,16 +1603,15 @@ void requireSolver(const char *who) {
   requireDelassus(who);
 }
 
-long newton(KN<double> *const &pcFree, KN<double> *const &pc, KN<double> *const &pm, KN<double> *const &pinfo) {
-  requireSolver("contactKernelNewton");
+// The iterations of one Newton solve from (c, m): sets residual, it, unresolved; true when
+// the step converged (stepConverged)
+bool newtonIterations(const std::vector<double> &cFree, std::vector<double> &c, std::vector<double> &m, double &residual,
+                      int &it, int &unresolved) {
   const int nc = F.nc;
-  KN<double> &cFreeK = *pcFree, &cK = *pc, &mK = *pm, &info = *pinfo;
-  if (cFreeK.N() != nc || cK.N() != nc || mK.N() != nc) ExecError("contactKernelNewton: one value per slot expected");
-  std::vector<double> cFree(nc), c(nc), m(nc), previous(nc), rhs(nc), newtonM(nc);
-  for (int j = 0; j < nc; j++) { cFree[j] = cFreeK[j]; c[j] = cK[j]; m[j] = mK[j]; }
+  std::vector<double> previous(nc), rhs(nc), newtonM(nc);
   double merit = 0;
-  double residual = newtonStart(cFree.data(), c.data(), m.data(), merit);
-  int it = 0, unresolved = 0;
+  residual = newtonStart(cFree.data(), c.data(), m.data(), merit);
+  it = 0; unresolved = 0;
   bool done = false;
   while (true) {
     L.relations(c.data());
@@ -1592,6 +1632,36 @@ long newton(KN<double> *const &pcFree, KN<double> *const &pc, KN<double> *const 
     if (done || it >= SP.maxit || std::isnan(residual) || std::isinf(residual)) break;
   }
   endStep();
+  return done;
+}
+
+// One step's Newton. With a disk law (3D pairs), a safeguarded Newton that does not converge
+// within -maxit is run again from the step's start without its safeguards (retry), as many
+// iterations more: the disk's slip piece is curved, and on thin plates the merit test rejects
+// the iterates of a Newton that converges (docs/stability.md, "Three dimensions": slab3d-thin
+// at Lz = 0.025 and 0.01, where every Newton iterate was replaced and the fixed-point
+// iterations crept, and plain Newton converges in 14 to 16). The iterations of both count.
+long newton(KN<double> *const &pcFree, KN<double> *const &pc, KN<double> *const &pm, KN<double> *const &pinfo) {
+  requireSolver("contactKernelNewton");
+  const int nc = F.nc;
+  KN<double> &cFreeK = *pcFree, &cK = *pc, &mK = *pm, &info = *pinfo;
+  if (cFreeK.N() != nc || cK.N() != nc || mK.N() != nc) ExecError("contactKernelNewton: one value per slot expected");
+  std::vector<double> cFree(nc), c(nc), m(nc);
+  for (int j = 0; j < nc; j++) { cFree[j] = cFreeK[j]; c[j] = cK[j]; m[j] = mK[j]; }
+  const std::vector<double> cStart = c, mStart = m;
+  double residual = 0;
+  int it = 0, unresolved = 0;
+  bool done = newtonIterations(cFree, c, m, residual, it, unresolved);
+  if (!done && SP.safeguards && L.hasPairs() && std::isfinite(residual)) {
+    int more = 0;
+    c = cStart; m = mStart;
+    SP.safeguards = false;
+    Q.retries++;
+    if (SP.verbose) std::fprintf(stderr, "  (the safeguarded Newton did not converge in %d iterations: plain Newton from the step's start)\n", it);
+    done = newtonIterations(cFree, c, m, residual, more, unresolved);
+    SP.safeguards = true;
+    it += more;
+  }
   for (int j = 0; j < nc; j++) { cK[j] = c[j]; mK[j] = m[j]; }
   if (info.N() != 4) info.resize(4);
   info[0] = residual; info[1] = it; info[2] = unresolved; info[3] = 0;
@@ -1776,9 +1846,9 @@ long newtonEnd() { endStep(); return 0; }
 
 long counters(KN<double> *const &pinfo) {
   KN<double> &info = *pinfo;
-  info.resize(7);
+  info.resize(8);
   info[0] = Q.fallbacks; info[1] = FP.sweeps; info[2] = Q.factorizations; info[3] = Q.corrections; info[4] = Q.refinements;
-  info[5] = Q.cuts; info[6] = Q.halvings;
+  info[5] = Q.cuts; info[6] = Q.halvings; info[7] = Q.retries;
   return 0;
 }
 

@@ -259,6 +259,7 @@ struct Slots {
     }
     return count;
   }
+  bool hasPairs() const { return std::any_of(pair.begin(), pair.end(), [](int q) { return q >= 0; }); }   // 3D disks
   double merit() const {
     double s = 0;
     for (int j = 0; j < n; j++) s += mismatch[j] * mismatch[j];

@@ -161,12 +161,17 @@ def histories(run):
     fig, ((forces, zones), (energy, residual)) = plt.subplots(2, 2, figsize=(11, 7))
     forces.plot(h["t"], h["normal_force"], label=r"normal force $\sum_i w_i\, p_{\nu,i}$")
     if run.dimension == 3:
+        # the total friction stress as a vector on Gamma3's mean frame (summary.txt; runs from
+        # before it was written: the frame of the face's mean normal)
         second = h.finite("tangential_force2")[0]
-        t1, t2 = (suite.direction_name(t) for t in (run.face.t1, run.face.t2))
-        forces.plot(h["t"], h["tangential_force"], label=f"tangential force along $t_1$ ({t1}): "
-                                                          r"$\sum_i w_i\, \lambda_{\tau,i}$")
-        forces.plot(h["t"], second, "-.", label=f"tangential force along $t_2$ ({t2}): "
-                                          r"$\sum_i w_i\, \lambda_{\tau 2,i}$")
+        summary = suite.read_summary(run.folder)
+        axes = ([np.array([float(w) for w in summary[key].split()]) for key in ("contact_frame_t1", "contact_frame_t2")]
+                if "contact_frame_t1" in summary and "contact_frame_t2" in summary else (run.face.t1, run.face.t2))
+        t1, t2 = (suite.direction_name(t) for t in axes)
+        forces.plot(h["t"], h["tangential_force"], label=f"friction stress on $T_1$ ({t1}): "
+                                                          r"$\sum_i w_i\, \mathbf{\lambda}_{\tau,i} \cdot T_1$")
+        forces.plot(h["t"], second, "-.", label=f"friction stress on $T_2$ ({t2}): "
+                                          r"$\sum_i w_i\, \mathbf{\lambda}_{\tau,i} \cdot T_2$")
         forces.plot(h["t"], np.hypot(h["tangential_force"], second), "k--", label="length of the tangential force")
         forces.set_ylabel("force [GN]")
     else:

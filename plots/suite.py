@@ -879,10 +879,10 @@ def nearest_rows(points, targets):
 
 def surface_frame(normal):
     """The frame (n, t1, t2) of a unit normal by the solver's rule (docs/design.md, "Three
-    dimensions"): t1 the coordinate axis least aligned with n (the first of equals) made
-    orthogonal to it, t2 = n x t1, so that t1 x t2 = n."""
+    dimensions"): t1 the coordinate axis least aligned with n (the first of those within 1e-9
+    of the least |n_k|) made orthogonal to it, t2 = n x t1, so that t1 x t2 = n."""
     n = np.asarray(normal, dtype=float) / np.linalg.norm(normal)
-    axis = np.eye(3)[int(np.argmin(np.abs(n)))]
+    axis = np.eye(3)[int(np.flatnonzero(np.abs(n) <= np.abs(n).min() + 1e-9)[0])]
     t1 = axis - axis.dot(n) * n
     t1 /= np.linalg.norm(t1)
     return n, t1, np.cross(n, t1)

@@ -236,11 +236,26 @@ class Checker:
         scale = np.max(scale)
         self.expect(abs(ch["normal_force"][-1] - force) <= rtol * max(abs(force), scale),
                     f"contact_history normal_force {ch['normal_force'][-1]} != sum w p_nu = {force}")
-        totals = (("tangential_force", "lambda_tau"),) + ((("tangential_force2", "lambda_tau2"),) if self.dim == 3 else ())
-        for name, column in totals:
-            tforce = np.sum(c["weight"] * c[column])
-            self.expect(abs(ch[name][-1] - tforce) <= rtol * max(abs(tforce), scale),
-                        f"contact_history {name} {ch[name][-1]} != sum w {column} = {tforce}")
+        if self.dim == 2:
+            tforce = np.sum(c["weight"] * c["lambda_tau"])
+            self.expect(abs(ch["tangential_force"][-1] - tforce) <= rtol * max(abs(tforce), scale),
+                        f"contact_history tangential_force {ch['tangential_force'][-1]} != sum w lambda_tau = {tforce}")
+        else:
+            # the total friction stress as a vector, sum w (lambda_tau t1 + lambda_tau2 t2), on the
+            # mean frame of Gamma3 that summary.txt gives (contact_frame_t1, contact_frame_t2)
+            t1, t2 = (np.stack([c[f"{t}_{a}"] for a in "xyz"], 1) for t in ("t1", "t2"))
+            vector = (c["weight"][:, None] * (c["lambda_tau"][:, None] * t1 + c["lambda_tau2"][:, None] * t2)).sum(0)
+            mean = [np.array([float(w) for w in self.summary.get(key, "nan nan nan").split()]) for key in
+                    ("contact_frame_t1", "contact_frame_t2")]
+            for name, axis in zip(("tangential_force", "tangential_force2"), mean):
+                self.expect(axis.shape == (3,) and abs(np.linalg.norm(axis) - 1) <= 1e-12,
+                            f"summary.txt: {name}'s axis {axis} is not a unit vector")
+                tforce = float(vector @ axis) if axis.shape == (3,) else np.nan
+                self.expect(abs(ch[name][-1] - tforce) <= rtol * max(abs(tforce), scale),
+                            f"contact_history {name} {ch[name][-1]} != the friction stress sum w (lambda_tau t1 + "
+                            f"lambda_tau2 t2) on {axis} = {tforce}")
+            self.expect(abs(mean[0] @ mean[1]) <= 1e-12 if mean[0].shape == mean[1].shape == (3,) else False,
+                        "summary.txt: contact_frame_t1 and contact_frame_t2 are not orthogonal")
         at_bound = c["x"][normal == 2]
         sticking = c["x"][(normal > 0) & (tangential == 0)]
         for name, xs in (("x_B", at_bound), ("x_C", sticking)):

@@ -21,7 +21,7 @@ WHAT IT SOLVES
   sum of area/3 over its label-1 triangles, outward normal n_i = the normalized sum of
   area/3 times the outward unit normal of those triangles (outward: away from the fourth
   vertex of the triangle's tetrahedron). The frame (n, t1, t2), right-handed:
-    no fixed axis   : t1 = the coordinate axis least aligned with n (the first of equals)
+    no fixed axis   : t1 = the coordinate axis least aligned with n (the first within 1e-9 of the least |n_k|)
                       made orthogonal to n, t2 = n x t1; slots v.n, v.t1, v.t2 (a pair);
     one fixed axis e: n projected on the plane free of e (refused below half its length),
                       its frame by the rule above; one tangential slot (the interval
@@ -341,7 +341,7 @@ def node_frame(nsum, weight, fixed, node, xyz):
     free_axes = [a for a in range(3) if not fixed[a]]
 
     def standard(n):
-        e = np.eye(3)[int(np.argmin(np.abs(n)))]          # least aligned, the first of equals
+        e = np.eye(3)[int(np.flatnonzero(np.abs(n) <= np.abs(n).min() + 1e-9)[0])]   # least aligned, the first within 1e-9
         t1 = e - np.dot(e, n) * n
         t1 /= np.linalg.norm(t1)
         return t1, np.cross(n, t1)

@@ -462,7 +462,12 @@ expect_failure "repeated option" 2 "option -nx is given twice" -nx 8 -nx 9
 expect_failure "real not a number" 2 "option -dt must be a real number, got 'abc'" -dt abc
 expect_failure "real half a number" 2 "option -E must be a real number, got '1e'" -E 1e
 expect_failure "a 3D mesh for a 2D scene" 3 "option -mesh: 'tests/data/tetrahedron.msh' is a 3D mesh, but the scene .*paper.scene is 2D \\(geometry rectangle, vectors of two components" -mesh tests/data/tetrahedron.msh
-expect_failure "a 2D mesh for a 3D scene" 3 "option -mesh: '.*mesh.msh' is a 2D mesh, but the scene .*column3d.scene is 3D \\(geometry box" -scene column3d -mesh "$work/paper-coarse-original/mesh.msh"
+expect_failure "a 2D mesh for a 3D scene" 3 "option -mesh: '.*mesh.msh' is a 2D mesh \\(it has no tetrahedra: a 3D mesh needs a Physical Volume.*the scene .*column3d.scene is 3D" -scene column3d -mesh "$work/paper-coarse-original/mesh.msh"
+"$PYTHON" tests/bad_meshes3d.py "$work/column3d/mesh.msh" "$work/bad-meshes3d" > /dev/null 2>&1
+expect_failure "a folded 3D mesh" 3 "lie on the same side of their common face: the mesh is folded, tangled or overlapping" -scene column3d -mesh "$work/bad-meshes3d/fold.msh"
+expect_failure "two 3D nodes at one point" 3 "are at the same point \\(0, 0, 0\\): a crack or duplicated nodes" -scene column3d -mesh "$work/bad-meshes3d/coincident.msh"
+expect_failure "a cached mesh without the scene's Dirichlet label" 3 "the scene's dirichlet label 7 is not a physical surface of the mesh" -scene tests/data/column3d-label7.scene
+expect_failure "-nz with -mesh" 2 "options -nx, -ny and -nz size the scene's structured mesh; they do not apply with -mesh" -scene column3d -mesh "$work/column3d/mesh.msh" -nz 3
 expect_failure "a 3D mesh without the scene's labels" 3 "'tests/data/tetrahedron.msh': the scene's dirichlet label 5 is not a physical surface of the mesh" -scene column3d -mesh tests/data/tetrahedron.msh
 expect_failure "a z value in a scene of a 2D geometry" 3 "traction with a z component: a z value, but geometry rectangle is 2D" -scene tests/data/z-in-2d.scene
 expect_failure "-plane for a 3D body" 2 "option -plane: plane stress or strain is a 2D model; geometry box is a 3D body" -scene column3d -plane strain

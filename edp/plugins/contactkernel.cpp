@@ -38,6 +38,9 @@
 //   contactKernelNodeVelocity(matrix O)   v -> (v_nu, v_tau) of every node (rows 2i, 2i + 1;
 //       in 3D (v_nu, v_tau, v_tau2), rows 3i, 3i + 1, 3i + 2): what the nodes report (a node may
 //       have fewer slots than velocities)
+//   contactKernelNodeFrames(real[int,int] frame, real[int] mean)   3D: each node's n, t1, t2 and
+//       Gamma3's mean frame T1, T2: the record's tangential forces are the total friction stress
+//       vector on T1 and T2
 //   contactKernelDampingSlope(real[int] Kn)   Kn per slot (p'(g) on normal slots), folded into S
 //   contactKernelFactorize(matrix S, matrix C)   returns 0, or 1 (S not positive definite),
 //       2 (CHOLMOD failed)
@@ -143,6 +146,8 @@ struct Contact {
   std::vector<double> observeValue;
   std::vector<int> normalSlot, tangentSlot, tangentSlot2;   // per node, -1: none (tangentSlot2: 3D)
   int rowsPerNode = 2;                         // of the observation: v_nu, v_tau (and v_tau2 in 3D)
+  std::vector<double> frame;                   // 3D: per node n, t1, t2 (9 values), and Gamma3's mean
+  double meanT1[3] = {0, 0, 0}, meanT2[3] = {0, 0, 0};   // frame T1, T2 (contactKernelNodeFrames)
   std::vector<double> weight;                  // W per slot: its node's weight
   bool ready = false;
 };
@@ -452,6 +457,22 @@ double largestEntry(Matrice_Creuse<double> *const &pS) {
     largest = std::max(largest, a);
   }
   return largest;
+}
+
+// 3D: the nodes' frames (rows n, t1, t2 of 9 values) and Gamma3's mean frame [T1, T2]: the
+// record sums the friction stress as a vector, sum_i w_i (lambda_tau t1_i + lambda_tau2 t2_i),
+// and reports it on T1 and T2 (the nodes' own frames may differ: a curved face, a node with a
+// fixed axis)
+long nodeFrames(KNM<double> *const &pframe, KN<double> *const &pmean) {
+  requireNodes("contactKernelNodeFrames");
+  KNM<double> &frame = *pframe;
+  KN<double> &mean = *pmean;
+  const int nn = N.nodeX.size();
+  if (frame.N() != nn || frame.M() != 9 || mean.N() != 6) ExecError("contactKernelNodeFrames: one row of 9 per node and 6 values expected");
+  N.frame.assign(9 * (size_t)nn, 0.);
+  for (int i = 0; i < nn; i++) for (int k = 0; k < 9; k++) N.frame[9 * i + k] = frame(i, k);
+  for (int k = 0; k < 3; k++) { N.meanT1[k] = mean[k]; N.meanT2[k] = mean[3 + k]; }
+  return 0;
 }
 
 long nodeVelocity(Matrice_Creuse<double> *const &pO) {
@@ -1002,7 +1023,8 @@ long recordStart(KN<double> *const &pv0, KN<double> *const &pu0, KN<double> *con
 // contact_dissipation, external_work, energy_residual, kinetic_jump, elastic_jump,
 // normal_force, tangential_force, the five zone counts, x_B, x_C, tangential_force2] (the columns
 // of history.txt and contact_history.txt; 1e300 for an x_B or x_C that does not exist; the
-// tangential forces sum W lambda_tau and W lambda_tau2, the second 0 in 2D). The discrete energy
+// tangential forces sum W lambda_tau and W lambda_tau2 in 2D (the second 0), and in 3D are the
+// vector sum of W (lambda_tau t1 + lambda_tau2 t2) on Gamma3's mean frame T1, T2). The discrete energy
 // balance (docs/design.md, section "Energy identity"), test function w = v_n:
 //   E_n - E_{n-1} + 1/2 m(v_n - v_{n-1}) + k^2/2 b(v_n) + k a(v_n) + k (C'W Lam)'v_n = k f_n'v_n
 void writeHistoryRow(const KN<double> &rec);
@@ -1056,8 +1078,18 @@ long stepRecord(KN<double> *const &pv, KN<double> *const &pu, KN<double> *const 
     if (s.normal == 2) xB = std::min(xB, N.nodeX[i]);
     if (s.normal > 0 && s.tangential == 0) xC = std::min(xC, N.nodeX[i]);
     normalForce += N.nodeW[i] * s.pn;
-    tangentialForce += N.nodeW[i] * s.lt;
-    tangentialForce2 += N.nodeW[i] * s.lt2;
+    if (N.frame.empty()) {                         // 2D: along each node's tangent
+      tangentialForce += N.nodeW[i] * s.lt;
+      tangentialForce2 += N.nodeW[i] * s.lt2;
+    }
+    else {                                         // 3D: the vector on Gamma3's mean frame
+      const double *f = N.frame.data() + 9 * i;
+      for (int k = 0; k < 3; k++) {
+        const double component = N.nodeW[i] * (s.lt * f[3 + k] + s.lt2 * f[6 + k]);
+        tangentialForce += component * N.meanT1[k];
+        tangentialForce2 += component * N.meanT2[k];
+      }
+    }
   }
   rec[9] = normalForce; rec[10] = tangentialForce;
   for (int z = 0; z < 5; z++) rec[11 + z] = zones[z];
@@ -1893,6 +1925,7 @@ static void Load_Init() {
   Global.Add("contactKernelDampingTable", "(", new OneOperator2_<long, KN<double> *, KN<double> *>(dampingTable));
   Global.Add("contactKernelNodes", "(", new OneOperator6_<long, KN<double> *, KN<double> *, KN<double> *, KN<long> *, KN<long> *, KN<long> *>(nodes));
   Global.Add("contactKernelNodeVelocity", "(", new OneOperator1_<long, Matrice_Creuse<double> *>(nodeVelocity));
+  Global.Add("contactKernelNodeFrames", "(", new OneOperator2_<long, KNM<double> *, KN<double> *>(nodeFrames));
   Global.Add("contactKernelDampingSlope", "(", new OneOperator1_<long, KN<double> *>(dampingSlope));
   Global.Add("contactKernelFactorize", "(", new OneOperator2_<long, Matrice_Creuse<double> *, Matrice_Creuse<double> *>(factorize));
   Global.Add("contactKernelFactorizeStep", "(", new OneOperator6_<long, double, double, double, Matrice_Creuse<double> *, KN<double> *,

@@ -44,6 +44,7 @@
 //   runMeshExtentRatio()                 1e8: the largest extent / shortest edge a mesh may have
 //   runMeshDimension(string path)        3 if a mesh file has tetrahedra, 2 if not, 0 if unreadable
 //   runGeoDimension(string path)         3 if a .geo defines a Physical Volume, else 2
+//   runMeshLacksLabel(string path, string labels)   the first label no boundary element carries, or -1
 //   runRestartWith(string arg)           this program again in this process, one argument more
 #include "ff++.hpp"
 #include "AFunction_ext.hpp"
@@ -981,8 +982,8 @@ void checkMesh(const std::string &path, const std::string &outPath, const std::s
     if (i == 0) z0 = z;
     if (z != z0)
       throw MeshProblem{"node " + std::to_string(id) + " has z = " + numberText(z) + " and the first node z = " + numberText(z0) +
-                        ": the mesh is not flat (a 3D mesh?); the suite solves 2D bodies only (plane stress, or -plane strain for "
-                        "a long body or a slab between walls)"};
+                        ": the mesh is not flat, and it has no volume element: a 3D body needs a Physical Volume meshed "
+                        "with gmsh -3 (and a 3D scene); a 2D one lies in one plane z = constant"};
     index[id] = i;
     xy[i] = {x, y};
     xmin = std::min(xmin, x); xmax = std::max(xmax, x); ymin = std::min(ymin, y); ymax = std::max(ymax, y);
@@ -1148,8 +1149,9 @@ void checkMesh(const std::string &path, const std::string &outPath, const std::s
 // A 3D mesh: 4-node tetrahedra (gmsh type 4) and 3-node boundary triangles (type 2, their
 // physical tag the label); points and lines are dropped. Refused: bad ids, flat or inverted
 // tetrahedra the reorientation cannot fix (zero volume), repeated tetrahedra, nodes of no
-// tetrahedron, a face shared by more than two tetrahedra, pieces, a labelled triangle that is
-// not a face, a used label inside the body, a boundary face without a triangle, missing labels.
+// tetrahedron, two nodes at one point, a face shared by more than two tetrahedra or whose two
+// lie on one side of it (a fold, a tangle), pieces, a labelled triangle that is not a face, a
+// used label inside the body, a boundary face without a triangle, missing labels.
 // Written out with every tetrahedron positively oriented.
 void checkMesh3(const std::string &path, const std::string &outPath, const std::string &required,
                 const std::string &dirichlet) {
@@ -1209,7 +1211,7 @@ void checkMesh3(const std::string &path, const std::string &outPath, const std::
         longest = std::max(longest, std::sqrt((p[0] - q[0]) * (p[0] - q[0]) + (p[1] - q[1]) * (p[1] - q[1]) + (p[2] - q[2]) * (p[2] - q[2])));
       }
     if (!(std::fabs(volume) > 1e-12 * longest * longest * longest)) throw MeshProblem{"tetrahedron " + std::to_string(t.id) + " has zero volume"};
-    if (volume < 0) std::swap(t.nodes[1], t.nodes[2]);
+    if (volume < 0) std::swap(t.nodes[1], t.nodes[2]);   // positively oriented (folds: the face check below)
     for (long n : t.nodes) used[n] = 1;
     for (int skip = 0; skip < 4; skip++) {
       std::vector<long> f;
@@ -1220,6 +1222,32 @@ void checkMesh3(const std::string &path, const std::string &outPath, const std::
   }
   for (long i = 0; i < M.nodeCount; i++)
     if (!used[i]) throw MeshProblem{"node " + std::to_string(idOf[i]) + " is not a vertex of any tetrahedron"};
+  // two nodes at one point: a crack, or duplicated nodes
+  {
+    std::vector<std::pair<std::array<double, 3>, long>> points;
+    for (long i = 0; i < M.nodeCount; i++) points.push_back({xyz[i], i});
+    std::sort(points.begin(), points.end());
+    for (size_t k = 1; k < points.size(); k++)
+      if (points[k].first == points[k - 1].first)
+        throw MeshProblem{"nodes " + std::to_string(idOf[points[k - 1].second]) + " and " + std::to_string(idOf[points[k].second]) +
+                          " are at the same point (" + numberText(points[k].first[0]) + ", " + numberText(points[k].first[1]) + ", " +
+                          numberText(points[k].first[2]) + "): a crack or duplicated nodes"};
+  }
+  // the two tetrahedra of an interior face lie on its two sides (else they overlap: a fold)
+  auto side = [&](const std::vector<long> &f, long p) {
+    const auto &a = xyz[f[0]], &b = xyz[f[1]], &c = xyz[f[2]], &d = xyz[p];
+    double u[3], v[3], w[3];
+    for (int i = 0; i < 3; i++) { u[i] = b[i] - a[i]; v[i] = c[i] - a[i]; w[i] = d[i] - a[i]; }
+    return u[0] * (v[1] * w[2] - v[2] * w[1]) - u[1] * (v[0] * w[2] - v[2] * w[0]) + u[2] * (v[0] * w[1] - v[1] * w[0]);
+  };
+  auto fourth = [&](size_t k, const std::vector<long> &f) {
+    for (long n : tets[k].nodes) if (n != f[0] && n != f[1] && n != f[2]) return n;
+    return f[0];
+  };
+  for (auto &f : faceTets)
+    if (f.second.size() == 2 && !(side(f.first, fourth(f.second[0], f.first)) * side(f.first, fourth(f.second[1], f.first)) < 0))
+      throw MeshProblem{"tetrahedra " + std::to_string(tets[f.second[0]].id) + " and " + std::to_string(tets[f.second[1]].id) +
+                        " lie on the same side of their common face: the mesh is folded, tangled or overlapping"};
   Pieces pieces(tets.size());
   for (auto &f : faceTets) {
     if (f.second.size() > 2)
@@ -1258,20 +1286,47 @@ void checkMesh3(const std::string &path, const std::string &outPath, const std::
   writeCheckedMesh(outPath, idOf, xyz, {&faces, &tets});
 }
 
-// The dimension of a mesh file: 3 if it has a tetrahedron (gmsh type 4), 2 if it is a gmsh
-// file without one, 0 if it cannot be read as one (the checker then says why)
+// The dimension of a mesh file: 3 if it has a volume element (a tetrahedron, gmsh type 4, or
+// another that the 3D checker then refuses: hexahedra, prisms, pyramids, of any order), 2 if
+// it is a gmsh file without one, 0 if it cannot be read as one (the checker then says why)
 long runMeshDimension(string *const &path) {
   try {
     MeshText M = readMeshText(*path);
+    const std::set<std::string> volumes = {"4", "5", "6", "7", "11", "12", "13", "14", "17", "18", "19", "29", "30", "31"};
     for (long i = 0; i < M.elementCount; i++) {
       std::vector<std::string> w = fieldsOf(M.lines[M.elementsAt + 2 + i]);
-      if (w.size() >= 2 && w[1] == "4") return 3;
+      if (w.size() >= 2 && volumes.count(w[1])) return 3;
     }
     return 2;
   } catch (const MeshProblem &) {
     return 0;
   }
 }
+// The first of the labels (numbers in a text, negative ones skipped) that no boundary element
+// of a checked mesh carries (lines in 2D, triangles in 3D: the first tag), or -1: a cached
+// mesh is not checked again, but the scene that uses it may name other Dirichlet labels
+long runMeshLacksLabel(string *const &path, string *const &labels) {
+  std::set<long> have;
+  try {
+    MeshText M = readMeshText(*path);
+    bool three = false;
+    for (long i = 0; i < M.elementCount && !three; i++) {
+      std::vector<std::string> w = fieldsOf(M.lines[M.elementsAt + 2 + i]);
+      three = w.size() >= 2 && w[1] == "4";
+    }
+    for (long i = 0; i < M.elementCount; i++) {
+      std::vector<std::string> w = fieldsOf(M.lines[M.elementsAt + 2 + i]);
+      if (w.size() >= 4 && w[1] == (three ? "2" : "1") && std::atol(w[2].c_str()) > 0) have.insert(std::atol(w[3].c_str()));
+    }
+  } catch (const MeshProblem &) {
+    return 0;
+  }
+  std::stringstream in(*labels);
+  long label;
+  while (in >> label) if (label >= 0 && !have.count(label)) return label;
+  return -1;
+}
+
 // The dimension of a gmsh .geo: 3 if it defines a Physical Volume, else 2
 long runGeoDimension(string *const &path) {
   std::ifstream f(*path);
@@ -1345,6 +1400,7 @@ static void Load_Init() {
   Global.Add("runMeshExtentRatio", "(", new OneOperator0<double>(runMeshExtentRatio));
   Global.Add("runMeshDimension", "(", new OneOperator1_<long, string *>(runMeshDimension));
   Global.Add("runGeoDimension", "(", new OneOperator1_<long, string *>(runGeoDimension));
+  Global.Add("runMeshLacksLabel", "(", new OneOperator2_<long, string *, string *>(runMeshLacksLabel));
   Global.Add("runRestartWith", "(", new OneOperator1_<long, string *>(runRestartWith));
   Global.Add("runCheckMesh", "(", new OneOperator6_<long, string *, string *, string *, string *, string *, long>(runCheckMesh));
 }

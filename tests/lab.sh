@@ -170,5 +170,12 @@ awk '!/^#/ { u = sqrt($3 * $3 + $4 * $4); if (u > max) max = u } END { exit !(ma
 for file in paper/figures/contact_at_T.png paper/figures/zone_map.png eps/penalty-1e-2/figures/compare_contact.png; do
   [ -s "$LAB/$file" ] || problem "\$LAB/$file"
 done
+# 6. three dimensions
+zones slide 0 0 0 25 0
+awk '!/^#/ { n++; lt = sqrt($6^2 + $14^2); vt = sqrt($3^2 + $13^2); if (lt < 1 - 1e-9 || lt > 1 + 1e-9 || vt < 0.599 || vt > 0.601) bad = 1 }
+     END { exit bad || n != 25 }' "$LAB/slide/contact.txt" 2>/dev/null || problem "|lambda_tau| = 1 and |v_tau| = 0.6 on the 25 nodes of \$LAB/slide"
+said "friction stress (0.7071, 0.7071), length 1.000000"
+said "3D: normal force per unit depth 13.8350, x_B 0.500, x_C 1.375"
+said "2D: normal force 13.8320, x_B 0.500, x_C 1.500"
 
 [ "$problems" = 0 ]

@@ -17,7 +17,9 @@ here="$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)"
 # Debian's python3-matplotlib is installed for /usr/bin/python3 only: use it everywhere.
 PYTHON=/usr/bin/python3
 PACKAGES=(freefem++ libfreefem++ gmsh numdiff python3 python3-numpy python3-matplotlib python3-vtk9 libopenblas0-pthread time
-          g++ libfreefem++-dev libsuitesparse-dev liblapack-dev libblas-dev)
+          g++ libfreefem++-dev libsuitesparse-dev liblapack-dev libblas-dev python3-petsc4py-real openmpi-bin)
+# Debian's petsc4py finds PETSc through PETSC_DIR (tests/petsc_step.py, the prototype of the PETSc route)
+export PETSC_DIR="${PETSC_DIR:-/usr/lib/petscdir/petsc3.18/x86_64-linux-gnu-real}"
 
 missing_dependencies() { # missing_dependencies [solve]: "solve" skips what only tests and plots need
   command -v FreeFem++-nw >/dev/null 2>&1 || return 0
@@ -29,6 +31,7 @@ missing_dependencies() { # missing_dependencies [solve]: "solve" skips what only
   "$PYTHON" -c 'import numpy, matplotlib, vtk' >/dev/null 2>&1 || return 0   # vtk: the tests read -vtk output back
   [ -e /usr/lib/x86_64-linux-gnu/openblas-pthread/libblas.so.3 ] || [ ! -d /usr/lib/x86_64-linux-gnu ] || return 0
   [ -x /usr/bin/time ] || return 0
+  "$PYTHON" -c 'import petsc4py' >/dev/null 2>&1 && command -v mpirun >/dev/null 2>&1 || return 0   # the PETSc route's test
   return 1
 }
 

@@ -217,6 +217,27 @@ def problem_label(params):
     return f"{params.get('problem', '?')} problem"
 
 
+def write_solution(out, comments, contact, fields):
+    """The results of an independent solver (tests/independent_solver*.py): OUT/contact.txt and
+    OUT/fields.txt, each (columns, rows) after the '# ' lines of comments (write_table)."""
+    os.makedirs(out, exist_ok=True)
+    for name, (columns, rows) in (("contact.txt", contact), ("fields.txt", fields)):
+        write_table(os.path.join(out, name), comments, columns, rows)
+
+
+def independent_main(program, run, input_errors, convergence_error):
+    """The exit code of an independent solver's run(): 2 with 'PROGRAM: error: WHY' on a bad
+    input (an exception of input_errors), 4 with 'PROGRAM: WHY' on a step that did not converge."""
+    try:
+        return run()
+    except input_errors as e:
+        print("%s: error: %s" % (program, e), file=sys.stderr)
+        return 2
+    except convergence_error as e:
+        print("%s: %s" % (program, e), file=sys.stderr)
+        return 4
+
+
 def write_table(path, comments, columns, rows):
     """A table in the format of the solver's outputs: a '# ' line per comment, the '#' line
     naming the columns, then the rows; floats written with repr (full precision, the same

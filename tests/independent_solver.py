@@ -459,8 +459,8 @@ class Problem:
         return np.column_stack([self.xy, self.u[0::2], self.u[1::2], self.v[0::2], self.v[1::2]])
 
 
-def write_table(path, prm, columns, data):
-    suite.write_table(path, ["%s %s" % (kk, prm[kk]) for kk in PARAM_KEYS], columns, data)
+def write_solution(out, prm, contact_rows, field_rows):
+    suite.write_solution(out, ["%s %s" % (kk, prm[kk]) for kk in PARAM_KEYS], (CONTACT_COLS, contact_rows), (FIELD_COLS, field_rows))
 
 
 def solve(mesh, prm, tol, maxit, verbose=False):
@@ -510,9 +510,7 @@ def compare(run_dir, rtol, tol, maxit, out):
              max(pb.iterations), pb.worst, elapsed))
     mine_c, mine_f = pb.contact_table(), pb.fields_table()
     if out:
-        os.makedirs(out, exist_ok=True)
-        write_table(os.path.join(out, "contact.txt"), prm, CONTACT_COLS, mine_c)
-        write_table(os.path.join(out, "fields.txt"), prm, FIELD_COLS, mine_f)
+        write_solution(out, prm, mine_c, mine_f)
     if len(theirs_c) != mine_c.shape[0] or len(theirs_f) != mine_f.shape[0]:
         raise InputError("row counts differ: contact %d vs %d, fields %d vs %d"
                          % (len(theirs_c), mine_c.shape[0], len(theirs_f), mine_f.shape[0]))
@@ -559,7 +557,8 @@ def main(argv):
     ap.add_argument("--verbose", action="store_true")
     ap.add_argument("--out")
     a = ap.parse_args(argv)
-    try:
+
+    def run():
         if a.compare:
             return compare(a.compare, a.rtol, a.tol, a.maxit, a.out)
         if not a.mesh or not a.out:
@@ -569,18 +568,11 @@ def main(argv):
             if not prm[kk] > 0:
                 raise InputError("--%s must be > 0" % kk)
         pb, elapsed = solve(a.mesh, prm, a.tol, a.maxit, a.verbose)
-        os.makedirs(a.out, exist_ok=True)
-        write_table(os.path.join(a.out, "contact.txt"), prm, CONTACT_COLS, pb.contact_table())
-        write_table(os.path.join(a.out, "fields.txt"), prm, FIELD_COLS, pb.fields_table())
+        write_solution(a.out, prm, pb.contact_table(), pb.fields_table())
         print("%d steps, Newton iterations total %d max %d, worst KKT error %.2e, %.3f s; results in %s"
               % (pb.N, sum(pb.iterations), max(pb.iterations), pb.worst, elapsed, a.out))
         return 0
-    except (InputError, OSError, ValueError, KeyError, IndexError) as e:
-        print("independent_solver: error: %s" % e, file=sys.stderr)
-        return 2
-    except ConvergenceError as e:
-        print("independent_solver: %s" % e, file=sys.stderr)
-        return 4
+    return suite.independent_main("independent_solver", run, (InputError, OSError, ValueError, KeyError, IndexError), ConvergenceError)
 
 
 if __name__ == "__main__":

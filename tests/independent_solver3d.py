@@ -781,8 +781,8 @@ class Problem:
         return np.column_stack([self.xyz, self.u.reshape(-1, 3), self.v.reshape(-1, 3)])
 
 
-def write_table(path, prm, columns, data):
-    suite.write_table(path, ["%s %s" % (kk, prm[kk]) for kk in PARAM_KEYS], columns, data)
+def write_solution(out, prm, contact_rows, field_rows):
+    suite.write_solution(out, ["%s %s" % (kk, prm[kk]) for kk in PARAM_KEYS], (CONTACT_COLS, contact_rows), (FIELD_COLS, field_rows))
 
 
 def solve(mesh_path, prm, scene, tol, maxit, linear="auto", verbose=False):
@@ -859,9 +859,7 @@ def compare(run_dir, rtol, tol, maxit, out, linear="auto"):
              max(pb.iterations), pb.linear, pb.worst, elapsed))
     mine_c, mine_f = pb.contact_table(), pb.fields_table()
     if out:
-        os.makedirs(out, exist_ok=True)
-        write_table(os.path.join(out, "contact.txt"), prm, CONTACT_COLS, mine_c)
-        write_table(os.path.join(out, "fields.txt"), prm, FIELD_COLS, mine_f)
+        write_solution(out, prm, mine_c, mine_f)
     oc = match_rows(mine_c[:, :3], np.column_stack([theirs_c["x"], theirs_c["y"], theirs_c["z"]]), "contact.txt")
     of = match_rows(mine_f[:, :3], np.column_stack([theirs_f["x"], theirs_f["y"], theirs_f["z"]]), "fields.txt")
     mine_c, mine_f = mine_c[oc], mine_f[of]
@@ -915,7 +913,8 @@ def main(argv):
     ap.add_argument("--verbose", action="store_true")
     ap.add_argument("--out")
     a = ap.parse_args(argv)
-    try:
+
+    def run():
         if a.compare:
             return compare(a.compare, a.rtol, a.tol, a.maxit, a.out, a.linear)
         if not a.mesh or not a.scene or not a.out:
@@ -940,18 +939,11 @@ def main(argv):
             if not prm[kk] > 0:
                 raise InputError("%s must be > 0" % kk)
         pb, elapsed = solve(a.mesh, prm, scene, a.tol, a.maxit, a.linear, a.verbose)
-        os.makedirs(a.out, exist_ok=True)
-        write_table(os.path.join(a.out, "contact.txt"), prm, CONTACT_COLS, pb.contact_table())
-        write_table(os.path.join(a.out, "fields.txt"), prm, FIELD_COLS, pb.fields_table())
+        write_solution(a.out, prm, pb.contact_table(), pb.fields_table())
         print("%d steps, Newton iterations total %d max %d, worst KKT error %.2e, %.3f s; results in %s"
               % (pb.N, sum(pb.iterations), max(pb.iterations), pb.worst, elapsed, a.out))
         return 0
-    except (InputError, OSError, ValueError, KeyError, IndexError) as e:
-        print("independent_solver3d: error: %s" % e, file=sys.stderr)
-        return 2
-    except ConvergenceError as e:
-        print("independent_solver3d: %s" % e, file=sys.stderr)
-        return 4
+    return suite.independent_main("independent_solver3d", run, (InputError, OSError, ValueError, KeyError, IndexError), ConvergenceError)
 
 
 if __name__ == "__main__":

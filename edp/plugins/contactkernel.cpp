@@ -1284,18 +1284,18 @@ double fixedPointIteration(const double *cFree, double *c, double *m, double &me
 // loses digits on the badly conditioned matrices of a literal penalty), a correction reads
 // the columns N0^-1 E_R from the inverse instead of solving for them
 const int T = Slots::termsPerRelation;
-// row j of the Newton matrix of the relations (a, aSlot, d, dSlot) into out[j * stride + i * ld],
-// i < nc, times sign, added (0 = sum of the first terms; the others where nonzero)
+// row j of the Newton matrix of the relations (a, aSlot, d, dSlot), its terms from first on,
+// times sign, added into out[i * ld], i < nc (term 0 always; the others where nonzero)
 void addNewtonRow(int j, const std::vector<double> &a, const std::vector<int> &aSlot, const std::vector<double> &d,
-                  const std::vector<int> &dSlot, double sign, double *out, size_t ld) {
+                  const std::vector<int> &dSlot, double sign, double *out, size_t ld, int first = 0) {
   const int nc = F.nc;
-  for (int t = 0; t < T; t++) {
+  for (int t = first; t < T; t++) {
     const double at = a[T * j + t];
     if (t > 0 && at == 0) continue;
     const double *row = F.Dw.data() + aSlot[T * j + t];
     for (int i = 0; i < nc; i++) out[i * ld] += sign * (-at * row[(size_t)i * nc]);
   }
-  for (int t = 0; t < T; t++) if (t == 0 || d[T * j + t] != 0) out[dSlot[T * j + t] * ld] += sign * d[T * j + t];
+  for (int t = first; t < T; t++) if (t == 0 || d[T * j + t] != 0) out[dSlot[T * j + t] * ld] += sign * d[T * j + t];
 }
 bool newtonFactorBase() {
   const int nc = F.nc;
@@ -1304,11 +1304,7 @@ bool newtonFactorBase() {
     for (int j = 0; j < nc; j++) Q.N0[j + (size_t)jj * nc] = -L.a[T * j] * F.Dw[L.aSlot[T * j] + (size_t)jj * nc];
   for (int j = 0; j < nc; j++) Q.N0[j + (size_t)L.dSlot[T * j] * nc] += L.d[T * j];
   for (int j = 0; j < nc; j++)                       // the further terms (a 3D disk's Slip)
-    for (int t = 1; t < T; t++) {
-      if (L.a[T * j + t] != 0)
-        for (int jj = 0; jj < nc; jj++) Q.N0[j + (size_t)jj * nc] -= L.a[T * j + t] * F.Dw[L.aSlot[T * j + t] + (size_t)jj * nc];
-      if (L.d[T * j + t] != 0) Q.N0[j + (size_t)L.dSlot[T * j + t] * nc] += L.d[T * j + t];
-    }
+    addNewtonRow(j, L.a, L.aSlot, L.d, L.dSlot, 1., Q.N0.data() + j, nc, 1);
   Q.pivots.resize(nc);
   int info = 0;
   dgetrf_(&nc, &nc, Q.N0.data(), &nc, Q.pivots.data(), &info);

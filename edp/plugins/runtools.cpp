@@ -1306,21 +1306,20 @@ long runMeshDimension(string *const &path) {
 // of a checked mesh carries (lines in 2D, triangles in 3D: the first tag), or -1: a cached
 // mesh is not checked again, but the scene that uses it may name other Dirichlet labels
 long runMeshLacksLabel(string *const &path, string *const &labels) {
-  std::set<long> have;
+  std::set<long> lines, triangles;                   // the labels of each kind of element, in one pass
+  bool three = false;
   try {
     MeshText M = readMeshText(*path);
-    bool three = false;
-    for (long i = 0; i < M.elementCount && !three; i++) {
-      std::vector<std::string> w = fieldsOf(M.lines[M.elementsAt + 2 + i]);
-      three = w.size() >= 2 && w[1] == "4";
-    }
     for (long i = 0; i < M.elementCount; i++) {
       std::vector<std::string> w = fieldsOf(M.lines[M.elementsAt + 2 + i]);
-      if (w.size() >= 4 && w[1] == (three ? "2" : "1") && std::atol(w[2].c_str()) > 0) have.insert(std::atol(w[3].c_str()));
+      three = three || (w.size() >= 2 && w[1] == "4");
+      if (w.size() >= 4 && (w[1] == "1" || w[1] == "2") && std::atol(w[2].c_str()) > 0)
+        (w[1] == "1" ? lines : triangles).insert(std::atol(w[3].c_str()));
     }
   } catch (const MeshProblem &) {
     return 0;
   }
+  const std::set<long> &have = three ? triangles : lines;
   std::stringstream in(*labels);
   long label;
   while (in >> label) if (label >= 0 && !have.count(label)) return label;

@@ -118,6 +118,7 @@
 #include <algorithm>
 #include "contactlaw.hpp"
 
+
 extern "C" {
 void dtrsv_(const char *uplo, const char *trans, const char *diag, const int *n, const double *a,
             const int *lda, double *x, const int *incx);
@@ -1134,8 +1135,16 @@ void writeHistoryRow(const KN<double> &rec) {
 // check. Y is read from N0^-1, computed from the factors when a first correction needs it
 // (twice the cost of the factorization): a correction then costs r^2 nc instead of the
 // r nc^2 of r solves, so corrections are cheap up to a larger r.
+struct Term { int index; double coef; };
 struct Newton {
-  std::vector<double> N0, N0inv, Y, Delta, K;
+  std::vector<double> N0, N0inv, K;
+  std::vector<int> derive, hOf;        // the rows of H0 = Dw N0^-1 (newtonDerivableRows)
+  std::vector<double> H;               // its computed rows, one after the other
+  int hCount = 0;
+  int substituted = 0;                 // rows of the base that are not the relations' (newtonFactorBase)
+  std::vector<double> bRef, xRef;      // the last right-hand side solved with N0's factors (baseSolve)
+  bool haveRef = false;
+  std::vector<std::vector<Term>> onInv, onUnit, onH;   // the changed rows of N as terms (newtonPrepare)
   bool inverted = false;
   std::vector<double> Dx;              // Dw x for the last x newtonSolve checked (haveDx)
   bool haveDx = false;
@@ -1279,10 +1288,11 @@ double fixedPointIteration(const double *cFree, double *c, double *m, double &me
 }
 
 
-// The LU factors of N0, the Newton matrix of the current relations (Q.N0), and its inverse
-// (Q.N0inv) computed from them: a solve uses the factors (backward stable: the inverse alone
-// loses digits on the badly conditioned matrices of a literal penalty), a correction reads
-// the columns N0^-1 E_R from the inverse instead of solving for them
+// The LU factors of N0, the base Newton matrix (Q.N0: the relations when it was factorized, a
+// 3D disk's slip rows as stick rows), and its inverse (Q.N0inv) computed from them: a solve
+// uses the factors (backward stable: the inverse alone loses digits on the badly conditioned
+// matrices of a literal penalty), a correction reads the columns N0^-1 E_R from the inverse
+// instead of solving for them (newtonPrepare)
 const int T = Slots::termsPerRelation;
 // row j of the Newton matrix of the relations (a, aSlot, d, dSlot), its terms from first on,
 // times sign, added into out[i * ld], i < nc (term 0 always; the others where nonzero)
@@ -1297,25 +1307,43 @@ void addNewtonRow(int j, const std::vector<double> &a, const std::vector<int> &a
   }
   for (int t = first; t < T; t++) if (t == 0 || d[T * j + t] != 0) out[dSlot[T * j + t] * ld] += sign * d[T * j + t];
 }
-bool newtonFactorBase() {
+void newtonDerivableRows();
+// does relation j read a velocity (else it fixes stresses only: a frictionless slip)
+bool hasVelocityTerm(int j) {
+  for (int t = 0; t < T; t++) if (L.a[T * j + t] != 0) return true;
+  return false;
+}
+bool newtonFactorBase(bool substitute = true);
+bool newtonFactorBase(bool substitute) {
   const int nc = F.nc;
+  // the base: the current relations, but a 3D disk's slip rows as stick rows (c_tau = 0), whose
+  // rows of H0 are -e'_j (newtonDerivableRows): those rows change at every iteration anyway, and
+  // the corrections then read no computed row of H0 for them
+  Q.baseA = L.a; Q.baseD = L.d; Q.baseS = L.aSlot; Q.baseT = L.dSlot;
+  Q.substituted = 0;
+  for (int j = 0; j < nc; j++)
+    if (substitute && L.pair[j] >= 0 && L.piece[j] == Slip && hasVelocityTerm(j)) {
+      for (int t = 0; t < T; t++) { Q.baseA[T * j + t] = 0; Q.baseD[T * j + t] = 0; Q.baseS[T * j + t] = j; Q.baseT[T * j + t] = j; }
+      Q.baseA[T * j] = 1;
+      Q.substituted++;
+    }
   Q.N0.assign((size_t)nc * nc, 0.);
   for (int jj = 0; jj < nc; jj++)
-    for (int j = 0; j < nc; j++) Q.N0[j + (size_t)jj * nc] = -L.a[T * j] * F.Dw[L.aSlot[T * j] + (size_t)jj * nc];
-  for (int j = 0; j < nc; j++) Q.N0[j + (size_t)L.dSlot[T * j] * nc] += L.d[T * j];
+    for (int j = 0; j < nc; j++) Q.N0[j + (size_t)jj * nc] = -Q.baseA[T * j] * F.Dw[Q.baseS[T * j] + (size_t)jj * nc];
+  for (int j = 0; j < nc; j++) Q.N0[j + (size_t)Q.baseT[T * j] * nc] += Q.baseD[T * j];
   for (int j = 0; j < nc; j++)                       // the further terms (a 3D disk's Slip)
-    addNewtonRow(j, L.a, L.aSlot, L.d, L.dSlot, 1., Q.N0.data() + j, nc, 1);
+    addNewtonRow(j, Q.baseA, Q.baseS, Q.baseD, Q.baseT, 1., Q.N0.data() + j, nc, 1);
   Q.pivots.resize(nc);
   int info = 0;
   dgetrf_(&nc, &nc, Q.N0.data(), &nc, Q.pivots.data(), &info);
   Q.inverted = false;
+  Q.haveRef = false;
   Q.factorizations++;
   Q.haveBase = info == 0;
   Q.generation = F.generation;
   Q.changed.clear();
-  Q.baseA = L.a; Q.baseD = L.d; Q.baseS = L.aSlot; Q.baseT = L.dSlot;
-  Q.preparedA = L.a; Q.preparedD = L.d; Q.preparedS = L.aSlot; Q.preparedT = L.dSlot;
-  if (!Q.haveBase) Q.preparedS.assign(T * nc, -1);
+  newtonDerivableRows();
+  Q.preparedS.assign(T * nc, -1);                    // the current relations are prepared by newtonPrepare
   return Q.haveBase;
 }
 
@@ -1339,75 +1367,203 @@ bool sameAsPrepared() {
          && L.dSlot == Q.preparedT;
 }
 
-// Prepare the solves with the Newton matrix of the current relations. A correction of rank
-// r costs about r^2 nc + r^3/3 multiply-adds, a new inverse about nc^3: corrections up to
-// r = nc/3.
+// The rows of H0 = Dw N0^-1 that the corrections read (newtonPrepare). Row s is known from a
+// row b of N0 whose one velocity term a0 sits at slot s: N0[b,:] = sum d0 e'_dSlot0 - a0 Dw[s,:]
+// and N0[b,:] N0^-1 = e'_b give H0[s,:] = (sum d0 N0^-1[dSlot0,:] - e'_b) / a0 (Q.derive[s] = b:
+// a stick, a bound, a free slot). The others (the slots of a 3D disk's slip, the normal slot of
+// a damped node under a linear p, whose relation has no velocity term) are computed, Dw[s,:] N0^-1,
+// the first time a correction reads them, and kept with the base (Q.H, row Q.hOf[s]).
+void newtonDerivableRows() {
+  const int nc = F.nc;
+  Q.derive.assign(nc, -1);
+  Q.hOf.assign(nc, -1);
+  Q.H.clear();
+  Q.hCount = 0;
+  for (int b = 0; b < nc; b++) {
+    int count = 0, s = -1;
+    double a0 = 0, dSum = 0;
+    for (int t = 0; t < T; t++) {
+      if (Q.baseA[T * b + t] != 0) { count++; s = Q.baseS[T * b + t]; a0 = Q.baseA[T * b + t]; }
+      dSum += std::fabs(Q.baseD[T * b + t]);
+    }
+    // a velocity term too small against the stress terms would lose digits in the division
+    if (count == 1 && std::fabs(a0) * F.Dw[s + (size_t)s * nc] >= 1e-3 * dSum && (Q.derive[s] < 0 || b == s)) Q.derive[s] = b;
+  }
+}
+void computeH0Rows(const std::vector<int> &slots) {
+  const int nc = F.nc, k = slots.size();
+  if (k == 0) return;
+  // Dw[slots, :], k x nc, column-major, from Dw's columns: Dw = D W with D symmetric, so
+  // Dw[s, i] = Dw[i, s] w_i / w_s
+  std::vector<double> W((size_t)k * nc);
+  for (int i = 0; i < k; i++) {
+    const double *column = F.Dw.data() + (size_t)slots[i] * nc;
+    const double ws = N.weight[slots[i]];
+    for (int col = 0; col < nc; col++) W[i + (size_t)col * k] = column[col] * N.weight[col] / ws;
+  }
+  Q.H.resize((size_t)(Q.hCount + k) * nc);
+  const double one = 1., zero = 0.;                    // the rows one after the other: (W N0^-1)' = N0^-T W'
+  dgemm_("T", "T", &nc, &k, &nc, &one, Q.N0inv.data(), &nc, W.data(), &k, &zero, Q.H.data() + (size_t)Q.hCount * nc, &nc);
+  for (int i = 0; i < k; i++) Q.hOf[slots[i]] = Q.hCount + i;
+  Q.hCount += k;
+}
+
+// N0 = N, the Newton matrix of the current relations, factorized (no correction): where a
+// correction cannot be made or is not accurate enough
+bool newtonExactBase() {
+  if (!newtonFactorBase(false)) return false;
+  Q.preparedA = L.a; Q.preparedD = L.d; Q.preparedS = L.aSlot; Q.preparedT = L.dSlot;
+  return true;
+}
+
+// Prepare the solves with the Newton matrix N of the current relations. N0 (factorized, its
+// inverse at hand) differs from N in the rows R; with Y = N0^-1 E_R, the columns R of the
+// inverse, N^-1 = N0^-1 - Y K^-1 (N - N0)_R N0^-1 (Woodbury), where K = I + (N - N0)_R Y is
+// (N N0^-1)[R, R]: the rows R of N, sum d e'_dSlot - sum a Dw[aSlot,:], times the columns R of
+// N0^-1. So K reads N0^-1 at the d-slots of those rows and H0 = Dw N0^-1 at their a-slots
+// (newtonDerivableRows): about 6 r^2 multiply-adds and an r x r LU, whatever rows changed (a
+// disk's slip rows change at every iteration). Corrections up to r = nc/3, else N0 anew.
 bool newtonPrepare() {
   const int nc = F.nc;
-  if (!Q.haveBase || Q.generation != F.generation) return newtonFactorBase();
+  if ((!Q.haveBase || Q.generation != F.generation) && !newtonFactorBase()) return false;
   std::vector<int> R;
-  for (int j = 0; j < nc; j++)
-    for (int t = 0; t < T; t++) {
-      const int e = T * j + t;
-      if (L.a[e] != Q.baseA[e] || L.d[e] != Q.baseD[e] || L.aSlot[e] != Q.baseS[e] || L.dSlot[e] != Q.baseT[e]) {
-        R.push_back(j);
-        break;
+  int stale = 0;                                     // changed rows other than the base's substituted ones
+  auto changedRows = [&]() {
+    R.clear(); stale = 0;
+    for (int j = 0; j < nc; j++)
+      for (int t = 0; t < T; t++) {
+        const int e = T * j + t;
+        if (L.a[e] != Q.baseA[e] || L.d[e] != Q.baseD[e] || L.aSlot[e] != Q.baseS[e] || L.dSlot[e] != Q.baseT[e]) {
+          R.push_back(j);
+          if (!(L.pair[j] >= 0 && L.piece[j] == Slip && hasVelocityTerm(j))) stale++;
+          break;
+        }
       }
-    }
+  };
+  changedRows();
+  if (stale > nc / 3) {
+    if (!newtonFactorBase()) return false;
+    changedRows();
+  }
   const int r = R.size();
-  if (r > nc / 3) return newtonFactorBase();
   Q.changed = R;
   Q.preparedA = L.a; Q.preparedD = L.d; Q.preparedS = L.aSlot; Q.preparedT = L.dSlot;
   if (r == 0) return true;
-  // Delta (r x nc): the changed rows of N minus those of N0
-  Q.Delta.assign((size_t)r * nc, 0.);
-  for (int k = 0; k < r; k++) {
-    int j = R[k];
-    bool single = L.dSlot[T * j] == j && Q.baseT[T * j] == j;
-    for (int t = 1; t < T; t++) single = single && L.a[T * j + t] == 0 && L.d[T * j + t] == 0 && Q.baseA[T * j + t] == 0 && Q.baseD[T * j + t] == 0;
-    if (!single) {                                   // a 3D disk's Slip: the rows term by term
-      addNewtonRow(j, L.a, L.aSlot, L.d, L.dSlot, 1., Q.Delta.data() + k, r);
-      addNewtonRow(j, Q.baseA, Q.baseS, Q.baseD, Q.baseT, -1., Q.Delta.data() + k, r);
-      continue;
+  if (!newtonInverse()) return newtonExactBase();
+  // each changed row as terms on rows of N0^-1 (onInv), on e'_b (onUnit) and on computed rows of H0 (onH)
+  std::vector<int> missing;
+  std::vector<char> listed(nc, 0);
+  for (int k = 0; k < r; k++)
+    for (int t = 0; t < T; t++) {
+      const int s = L.aSlot[T * R[k] + t];
+      if (L.a[T * R[k] + t] != 0 && Q.hOf[s] < 0 && Q.derive[s] < 0 && !listed[s]) { missing.push_back(s); listed[s] = 1; }
     }
-    for (int i = 0; i < nc; i++)
-      Q.Delta[k + (size_t)i * r] = -L.a[T * j] * F.Dw[L.aSlot[T * j] + (size_t)i * nc] + Q.baseA[T * j] * F.Dw[Q.baseS[T * j] + (size_t)i * nc];
-    Q.Delta[k + (size_t)j * r] += L.d[T * j] - Q.baseD[T * j];
+  computeH0Rows(missing);
+  Q.onInv.assign(r, {}); Q.onUnit.assign(r, {}); Q.onH.assign(r, {});
+  for (int k = 0; k < r; k++) {
+    const int j = R[k];
+    for (int t = 0; t < T; t++) if (t == 0 || L.d[T * j + t] != 0) Q.onInv[k].push_back({L.dSlot[T * j + t], L.d[T * j + t]});
+    for (int t = 0; t < T; t++) {
+      const double a = L.a[T * j + t];
+      const int s = L.aSlot[T * j + t];
+      if (a == 0) continue;
+      if (Q.hOf[s] >= 0) { Q.onH[k].push_back({Q.hOf[s], -a}); continue; }
+      const int b = Q.derive[s];
+      double a0 = 0;
+      for (int u = 0; u < T; u++) if (Q.baseA[T * b + u] != 0) a0 = Q.baseA[T * b + u];
+      for (int u = 0; u < T; u++)
+        if (Q.baseD[T * b + u] != 0) Q.onInv[k].push_back({Q.baseT[T * b + u], -a * Q.baseD[T * b + u] / a0});
+      Q.onUnit[k].push_back({b, a / a0});
+    }
   }
-  // Y = N0^-1 E_R (columns R of the inverse), K = I + Delta Y
-  if (!newtonInverse()) return newtonFactorBase();
-  Q.Y.resize((size_t)nc * r);
-  for (int k = 0; k < r; k++) std::copy(Q.N0inv.begin() + (size_t)R[k] * nc, Q.N0inv.begin() + (size_t)(R[k] + 1) * nc, Q.Y.begin() + (size_t)k * nc);
+  {
   Q.K.assign((size_t)r * r, 0.);
-  for (int k = 0; k < r; k++) Q.K[k + (size_t)k * r] = 1.;
-  const double one = 1.;
-  dgemm_("N", "N", &r, &r, &nc, &one, Q.Delta.data(), &r, Q.Y.data(), &nc, &one, Q.K.data(), &r);
+  std::vector<int> position(nc, -1);
+  for (int l = 0; l < r; l++) position[R[l]] = l;
+  for (int l = 0; l < r; l++) {
+    const double *column = Q.N0inv.data() + (size_t)R[l] * nc;
+    double *out = Q.K.data() + (size_t)l * r;
+    for (int k = 0; k < r; k++) {
+      double v = 0;
+      for (const Term &e : Q.onInv[k]) v += e.coef * column[e.index];
+      out[k] = v;
+    }
+  }
+  for (int k = 0; k < r; k++) {
+    for (const Term &e : Q.onUnit[k]) if (position[e.index] >= 0) Q.K[k + (size_t)position[e.index] * r] += e.coef;
+    for (const Term &e : Q.onH[k]) {
+      const double *row = Q.H.data() + (size_t)e.index * nc;
+      for (int l = 0; l < r; l++) Q.K[k + (size_t)l * r] += e.coef * row[R[l]];
+    }
+  }
+  }
+ 
   Q.Kpivots.resize(r);
   int info = 0;
   dgetrf_(&r, &r, Q.K.data(), &r, Q.Kpivots.data(), &info);
-  if (info != 0) return newtonFactorBase();
+  if (info != 0) return newtonExactBase();
   Q.corrections++;
   return true;
 }
 
-// x = N^-1 b (x and b distinct) with N0's factors and the correction. The corrected solve is checked
-// by its residual, row by row, against the size of the row's terms: above 1e-13, one step of
-// iterative refinement (the correction loses digits on badly conditioned matrices, at small
-// r); still above 1e-11, N0 is factorized again.
-void correctedSolve(const double *b, double *x) {
-  const int nc = F.nc, one = 1, inc = 1, r = Q.changed.size();
-  const double plus = 1., minus = -1., zero = 0.;
+// x = N^-1 b (x and b distinct) with N0's factors and the correction: x0 = N0^-1 b, then
+// x = x0 - Y K^-1 (N x0 - b)_R, where (N x0)_R reads Dw x0 = H0 b at the a-slots as K reads H0
+// (a derived row: (sum d0 x0[dSlot0] - b_b)/a0). The corrected solve is checked by its residual,
+// row by row, against the size of the row's terms: above 1e-13, one step of iterative
+// refinement (the correction loses digits on badly conditioned matrices, at small r); still
+// above 1e-11, N0 is factorized again.
+// x0 = N0^-1 b with N0's factors; or, where b differs from the last right-hand side solved with
+// them (bRef, when remember) in at most nc/8 entries, xRef plus those columns of the inverse: within a
+// step only the rows whose relations changed change their right-hand side
+void baseSolve(const double *b, double *x, bool remember) {
+  const int nc = F.nc, one = 1, inc = 1;
+  if (remember && Q.inverted && Q.haveRef) {
+    std::vector<int> S;
+    for (int i = 0; i < nc && (int)S.size() <= nc / 8; i++) if (b[i] != Q.bRef[i]) S.push_back(i);
+    if ((int)S.size() <= nc / 8) {
+      std::copy(Q.xRef.begin(), Q.xRef.end(), x);
+      for (int i : S) {
+        const double delta = b[i] - Q.bRef[i];
+        daxpy_(&nc, &delta, Q.N0inv.data() + (size_t)i * nc, &inc, x, &inc);
+      }
+      return;
+    }
+  }
   int info = 0;
   std::copy(b, b + nc, x);
   dgetrs_("N", &nc, &one, Q.N0.data(), &nc, Q.pivots.data(), x, &nc, &info);
-  if (r == 0) return;
-  std::vector<double> t(r, 0.);
-  dgemv_("N", &r, &nc, &plus, Q.Delta.data(), &r, x, &inc, &zero, t.data(), &inc);
-  dgetrs_("N", &r, &one, Q.K.data(), &r, Q.Kpivots.data(), t.data(), &r, &info);
-  dgemv_("N", &nc, &r, &minus, Q.Y.data(), &nc, t.data(), &inc, &plus, x, &inc);
+  if (remember) { Q.bRef.assign(b, b + nc); Q.xRef.assign(x, x + nc); Q.haveRef = true; }
 }
-// the largest row residual of N x = b relative to the row's terms; the residuals in res;
-// Dw x in Q.Dx (the safeguard's velocities at x reuse it)
+void correctedSolve(const double *b, double *x, bool remember = false) {
+  const int nc = F.nc, one = 1, r = Q.changed.size();
+  int info = 0;
+  baseSolve(b, x, remember);
+  if (r == 0) return;
+  std::vector<double> t(r, 0.), hb(Q.hCount, 0.);     // hb = H0 b on the computed rows
+  if (Q.hCount > 0) {
+    const double plus = 1., zero = 0.;
+    const int inc = 1;
+    dgemv_("T", &nc, &Q.hCount, &plus, Q.H.data(), &nc, b, &inc, &zero, hb.data(), &inc);
+  }
+  for (int k = 0; k < r; k++) {
+    double v = -b[Q.changed[k]];
+    for (const Term &e : Q.onInv[k]) v += e.coef * x[e.index];
+    for (const Term &e : Q.onUnit[k]) v += e.coef * b[e.index];
+    for (const Term &e : Q.onH[k]) v += e.coef * hb[e.index];
+    t[k] = v;
+  }
+  dgetrs_("N", &r, &one, Q.K.data(), &r, Q.Kpivots.data(), t.data(), &r, &info);
+  for (int l = 0; l < r; l++) {
+    const double minus = -t[l];
+    const int inc = 1;
+    daxpy_(&nc, &minus, Q.N0inv.data() + (size_t)Q.changed[l] * nc, &inc, x, &inc);
+  }
+}
+// the largest row residual of N x = b relative to the size of the row's terms, |b_j| + |its
+// terms at x| + (sum |a_jt| max|Dw x| + sum |d_jt| max|x|) / 10: a row is read against its own
+// terms, but not below a tenth of the scale of the others (a row whose terms all vanish at the
+// solution, a free slot's m_j = 0, would read round-off as a relative error of 1); the
+// residuals in res; Dw x in Q.Dx (the safeguard's velocities at x reuse it)
 double rowResidual(const double *b, const double *x, double *res) {
   const int nc = F.nc, inc = 1;
   Q.Dx.assign(nc, 0.);
@@ -1415,35 +1571,58 @@ double rowResidual(const double *b, const double *x, double *res) {
   const double plus = 1., zero = 0.;
   dgemv_("N", &nc, &nc, &plus, F.Dw.data(), &nc, x, &inc, &zero, Dx.data(), &inc);
   Q.haveDx = true;
-  double worst = 0;
+  double worst = 0, xMax = 0, DxMax = 0;
+  for (int j = 0; j < nc; j++) { xMax = std::max(xMax, std::fabs(x[j])); DxMax = std::max(DxMax, std::fabs(Dx[j])); }
   for (int j = 0; j < nc; j++) {
     double a = -L.a[T * j] * Dx[L.aSlot[T * j]], d = L.d[T * j] * x[L.dSlot[T * j]];
+    double aSize = std::fabs(L.a[T * j]), dSize = std::fabs(L.d[T * j]);
     for (int t = 1; t < T; t++) {                    // the further terms (a 3D disk's Slip)
       if (L.a[T * j + t] != 0) a -= L.a[T * j + t] * Dx[L.aSlot[T * j + t]];
       if (L.d[T * j + t] != 0) d += L.d[T * j + t] * x[L.dSlot[T * j + t]];
+      aSize += std::fabs(L.a[T * j + t]); dSize += std::fabs(L.d[T * j + t]);
     }
-    const double scale = std::fabs(b[j]) + std::fabs(a) + std::fabs(d);
+    const double scale = std::fabs(b[j]) + std::fabs(a) + std::fabs(d) + 0.1 * (aSize * DxMax + dSize * xMax);
     res[j] = b[j] - a - d;
     const double relative = scale > 0 ? std::fabs(res[j]) / scale : (res[j] == 0 ? 0. : INFINITY);
     if (!(relative <= worst)) worst = relative;             // a NaN row stays the worst
   }
   return worst;
 }
+// A relation with no velocity term and one stress term (a free slot, a frictionless slip: m_j =
+// h_j / d_j) holds exactly, as a solve with N's own factors gives it: the correction would leave
+// round-off there (lambda_tau of 1e-17 where mu = 0)
+void exactStressRows(const double *b, double *x) {
+  for (int j = 0; j < F.nc; j++) {
+    if (hasVelocityTerm(j)) continue;
+    int terms = 0;
+    for (int t = 0; t < T; t++) terms += t == 0 || L.d[T * j + t] != 0;
+    if (terms == 1 && L.d[T * j] != 0) x[L.dSlot[T * j]] = b[j] / L.d[T * j];
+  }
+}
+// x = N^-1 b to a hundredth of the tolerance: the row residual of the corrected solve
+// (rowResidual) must be below max(1e-15, min(1e-6, tol / 100)). Once the pieces are right, a
+// piecewise-linear law is then solved to tol in one iteration (finite termination); a fixed
+// 1e-13, read row by row against each row's own terms, refined most solves of a 3D slab for
+// nothing. Above the bound, one step of iterative refinement; still above max(1e-11, the
+// bound), N0 = N is factorized.
 bool newtonSolve(const double *b, double *x) {
   const int nc = F.nc;
   Q.haveDx = false;
-  correctedSolve(b, x);
+  correctedSolve(b, x, true);
   if (Q.changed.empty()) return true;
+  exactStressRows(b, x);
+  const double bound = std::max(1e-15, std::min(1e-6, 0.01 * SP.tol));
   std::vector<double> res(nc), dx(nc);
   double worst = rowResidual(b, x, res.data());
-  if (worst > 1e-13) {                               // refine once
+  if (worst > bound) {
     correctedSolve(res.data(), dx.data());
     for (int j = 0; j < nc; j++) x[j] += dx[j];
+    exactStressRows(b, x);
     Q.refinements++;
     worst = rowResidual(b, x, res.data());
   }
-  if (!(worst <= 1e-11)) {
-    if (!newtonFactorBase()) return false;
+  if (!(worst <= std::max(1e-11, bound))) {
+    if (!newtonExactBase()) return false;
     correctedSolve(b, x);
     Q.haveDx = false;
   }

@@ -23,7 +23,8 @@ The files are plain text: '#' header lines (key value), then one '#' line naming
 columns; floats are written with repr (full precision), rows in a fixed order.
 DIR is the results folder of ./run.sh: paper-original, paper-penalty (required),
 choices/* and eps-study/eps-* (whatever is there). Exits 1 with a message when a
-required file is missing or the meshes of the compared runs differ.
+required file is missing or the meshes of the compared runs differ, and refuses 3D runs
+(tests/check_results.py --compare reads those).
 """
 import argparse
 import math
@@ -262,6 +263,10 @@ def main():
         for folder in folders:
             if not os.path.isfile(os.path.join(folder, "contact.txt")):
                 fail(f"no run in {folder}")
+            if suite.read_summary(folder).get("dimension", "2") == "3":
+                fail(f"{folder} is a 3D run: tables.py compares 2D runs (triangles, v_x v_y); compare 3D runs "
+                     "with PYTHONPATH=plots /usr/bin/python3 tests/check_results.py RUN --compare REF --rtol R, "
+                     "which reads every column (v_tau2, v_z) and prints them with --rtol 0")
         if args.compare:
             print(f"tables.py: differences at T from {folders[0]}")
             print_comparison([compare_runs(folders[0], folder) for folder in folders[1:]])

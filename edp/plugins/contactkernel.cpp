@@ -1630,7 +1630,8 @@ bool newtonSolve(const double *b, double *x) {
 }
 
 // The cycle guard (with -safeguard on): the relations of iteration it are fingerprinted (the
-// pieces, and the coefficients for a nonlinear p); when a fingerprint repeats within the step
+// pieces, and the coefficients for a nonlinear p; a 3D disk's slip by its piece alone, as its
+// coefficients follow the slip direction at every iteration); when a fingerprint repeats within the step
 // and r is above the operator's scale (-r > 1, after earlier halvings), r is halved on every
 // slot for the rest of the step, and the law is evaluated again at (c, m) with the new r. The
 // solution does not depend on r, only which pieces Newton tries next: at large r a slot's
@@ -1644,8 +1645,11 @@ int guard(int it, const double *c, const double *m) {
   double fingerprint = 0;
   for (int j = 0; j < L.n; j++)
   {
-    double term = L.key[j] + 0.6180339887 * L.a[T * j] + 0.4142135624 * L.d[T * j];
-    for (int t = 1; t < T; t++) term += (0.6180339887 * L.a[T * j + t] + 0.4142135624 * L.d[T * j + t]) * (t + 1);
+    double term = L.key[j];
+    if (!(L.pair[j] >= 0 && L.piece[j] == Slip)) {   // a disk's slip row changes at every iteration: its piece only
+      term += 0.6180339887 * L.a[T * j] + 0.4142135624 * L.d[T * j];
+      for (int t = 1; t < T; t++) term += (0.6180339887 * L.a[T * j + t] + 0.4142135624 * L.d[T * j + t]) * (t + 1);
+    }
     fingerprint += term * (1. + ((7919 * j + 104729) % 1009));
   }
   int halved = 0;

@@ -1441,6 +1441,7 @@ bool newtonPrepare() {
       }
   };
   changedRows();
+  // a new base when a third of the rows changed for another reason than a 3D slip
   if (stale > nc / 3) {
     if (!newtonFactorBase()) return false;
     changedRows();
@@ -1601,10 +1602,11 @@ void exactStressRows(const double *b, double *x) {
 }
 // x = N^-1 b to a hundredth of the tolerance: the row residual of the corrected solve
 // (rowResidual) must be below max(1e-15, min(1e-6, tol / 100)). Once the pieces are right, a
-// piecewise-linear law is then solved to tol in one iteration (finite termination); a fixed
-// 1e-13, read row by row against each row's own terms, refined most solves of a 3D slab for
-// nothing. Above the bound, one step of iterative refinement; still above max(1e-11, the
-// bound), N0 = N is factorized.
+// piecewise-linear law is then solved to tol in one iteration (finite termination: the paper
+// scene takes 159 iterations at every tol from 1e-6 to 1e-12), and a steep damping table still
+// converges (at tol / 10 it stalled at 8.5e-10); a fixed 1e-13, read row by row against each
+// row's own terms, refined most solves of a 3D slab for nothing. Above the bound, one step of
+// iterative refinement; still above max(1e-11, the bound), N0 = N is factorized.
 bool newtonSolve(const double *b, double *x) {
   const int nc = F.nc;
   Q.haveDx = false;

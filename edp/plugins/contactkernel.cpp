@@ -118,7 +118,6 @@
 #include <algorithm>
 #include "contactlaw.hpp"
 
-
 extern "C" {
 void dtrsv_(const char *uplo, const char *trans, const char *diag, const int *n, const double *a,
             const int *lda, double *x, const int *incx);
@@ -1130,18 +1129,18 @@ void writeHistoryRow(const KN<double> &rec) {
 // (contactlaw.hpp; one term of each in 2D) with c = cFree - Dw m: row j = sum_t -a_jt Dw(aSlot_jt, :)
 // + d_jt e_dSlot_jt'. A base matrix N0 (its relations baseA, baseD, baseS, baseT) is LU-factorized; a matrix whose relations differ from N0's in a few
 // rows R only is solved with N0's factors and a rank-|R| (Woodbury) correction:
-//   N = N0 + E_R Delta,  N^-1 b = x0 - Y K^-1 Delta x0,  x0 = N0^-1 b,  Y = N0^-1 E_R,  K = I + Delta Y.
-// N0 is factorized again when |R| exceeds nc/3, or when a corrected solve fails its residual
-// check. Y is read from N0^-1, computed from the factors when a first correction needs it
-// (twice the cost of the factorization): a correction then costs r^2 nc instead of the
-// r nc^2 of r solves, so corrections are cheap up to a larger r.
+//   N = N0 + E_R Delta,  N^-1 b = x0 - Y K^-1 Delta x0,  x0 = N0^-1 b,  Y = N0^-1 E_R,  K = I + Delta Y,
+// Y read from N0^-1 (computed from the factors when a first correction needs it) and K
+// assembled from the changed rows' terms (newtonPrepare). N0 is factorized again when more than
+// nc/3 rows changed for another reason than a 3D slip, or when a corrected solve fails its
+// residual check (newtonSolve).
 struct Term { int index; double coef; };
 struct Newton {
   std::vector<double> N0, N0inv, K;
   std::vector<int> derive, hOf;        // the rows of H0 = Dw N0^-1 (newtonDerivableRows)
+  std::vector<double> deriveA0;        // the velocity term of the base row each is derived from
   std::vector<double> H;               // its computed rows, one after the other
   int hCount = 0;
-  int substituted = 0;                 // rows of the base that are not the relations' (newtonFactorBase)
   std::vector<double> bRef, xRef;      // the last right-hand side solved with N0's factors (baseSolve)
   bool haveRef = false;
   std::vector<std::vector<Term>> onInv, onUnit, onH;   // the changed rows of N as terms (newtonPrepare)
@@ -1313,6 +1312,10 @@ bool hasVelocityTerm(int j) {
   for (int t = 0; t < T; t++) if (L.a[T * j + t] != 0) return true;
   return false;
 }
+// is relation j a 3D disk's slip (its coefficients follow the slip direction at every iteration)
+bool diskSlip(int j) { return L.pair[j] >= 0 && L.piece[j] == Slip; }
+// ... that reads a velocity: the base writes it as a stick row (newtonFactorBase)
+bool substitutedInBase(int j) { return diskSlip(j) && hasVelocityTerm(j); }
 bool newtonFactorBase(bool substitute = true);
 bool newtonFactorBase(bool substitute) {
   const int nc = F.nc;
@@ -1320,12 +1323,10 @@ bool newtonFactorBase(bool substitute) {
   // rows of H0 are -e'_j (newtonDerivableRows): those rows change at every iteration anyway, and
   // the corrections then read no computed row of H0 for them
   Q.baseA = L.a; Q.baseD = L.d; Q.baseS = L.aSlot; Q.baseT = L.dSlot;
-  Q.substituted = 0;
   for (int j = 0; j < nc; j++)
-    if (substitute && L.pair[j] >= 0 && L.piece[j] == Slip && hasVelocityTerm(j)) {
+    if (substitute && substitutedInBase(j)) {
       for (int t = 0; t < T; t++) { Q.baseA[T * j + t] = 0; Q.baseD[T * j + t] = 0; Q.baseS[T * j + t] = j; Q.baseT[T * j + t] = j; }
       Q.baseA[T * j] = 1;
-      Q.substituted++;
     }
   Q.N0.assign((size_t)nc * nc, 0.);
   for (int jj = 0; jj < nc; jj++)
@@ -1376,6 +1377,7 @@ bool sameAsPrepared() {
 void newtonDerivableRows() {
   const int nc = F.nc;
   Q.derive.assign(nc, -1);
+  Q.deriveA0.assign(nc, 0.);
   Q.hOf.assign(nc, -1);
   Q.H.clear();
   Q.hCount = 0;
@@ -1387,7 +1389,10 @@ void newtonDerivableRows() {
       dSum += std::fabs(Q.baseD[T * b + t]);
     }
     // a velocity term too small against the stress terms would lose digits in the division
-    if (count == 1 && std::fabs(a0) * F.Dw[s + (size_t)s * nc] >= 1e-3 * dSum && (Q.derive[s] < 0 || b == s)) Q.derive[s] = b;
+    if (count == 1 && std::fabs(a0) * F.Dw[s + (size_t)s * nc] >= 1e-3 * dSum && (Q.derive[s] < 0 || b == s)) {
+      Q.derive[s] = b;
+      Q.deriveA0[s] = a0;
+    }
   }
 }
 void computeH0Rows(const std::vector<int> &slots) {
@@ -1422,7 +1427,8 @@ bool newtonExactBase() {
 // (N N0^-1)[R, R]: the rows R of N, sum d e'_dSlot - sum a Dw[aSlot,:], times the columns R of
 // N0^-1. So K reads N0^-1 at the d-slots of those rows and H0 = Dw N0^-1 at their a-slots
 // (newtonDerivableRows): about 6 r^2 multiply-adds and an r x r LU, whatever rows changed (a
-// disk's slip rows change at every iteration). Corrections up to r = nc/3, else N0 anew.
+// disk's slip rows change at every iteration). A new base when more than nc/3 rows changed for
+// another reason than a 3D slip.
 bool newtonPrepare() {
   const int nc = F.nc;
   if ((!Q.haveBase || Q.generation != F.generation) && !newtonFactorBase()) return false;
@@ -1435,7 +1441,7 @@ bool newtonPrepare() {
         const int e = T * j + t;
         if (L.a[e] != Q.baseA[e] || L.d[e] != Q.baseD[e] || L.aSlot[e] != Q.baseS[e] || L.dSlot[e] != Q.baseT[e]) {
           R.push_back(j);
-          if (!(L.pair[j] >= 0 && L.piece[j] == Slip && hasVelocityTerm(j))) stale++;
+          if (!substitutedInBase(j)) stale++;
           break;
         }
       }
@@ -1470,14 +1476,13 @@ bool newtonPrepare() {
       if (a == 0) continue;
       if (Q.hOf[s] >= 0) { Q.onH[k].push_back({Q.hOf[s], -a}); continue; }
       const int b = Q.derive[s];
-      double a0 = 0;
-      for (int u = 0; u < T; u++) if (Q.baseA[T * b + u] != 0) a0 = Q.baseA[T * b + u];
+      const double a0 = Q.deriveA0[s];
       for (int u = 0; u < T; u++)
         if (Q.baseD[T * b + u] != 0) Q.onInv[k].push_back({Q.baseT[T * b + u], -a * Q.baseD[T * b + u] / a0});
       Q.onUnit[k].push_back({b, a / a0});
     }
   }
-  {
+  // K = (N N0^-1)[R, R]: the terms on N0^-1 column by column, then those on H0 row by row
   Q.K.assign((size_t)r * r, 0.);
   std::vector<int> position(nc, -1);
   for (int l = 0; l < r; l++) position[R[l]] = l;
@@ -1497,8 +1502,6 @@ bool newtonPrepare() {
       for (int l = 0; l < r; l++) Q.K[k + (size_t)l * r] += e.coef * row[R[l]];
     }
   }
-  }
- 
   Q.Kpivots.resize(r);
   int info = 0;
   dgetrf_(&r, &r, Q.K.data(), &r, Q.Kpivots.data(), &info);
@@ -1507,12 +1510,6 @@ bool newtonPrepare() {
   return true;
 }
 
-// x = N^-1 b (x and b distinct) with N0's factors and the correction: x0 = N0^-1 b, then
-// x = x0 - Y K^-1 (N x0 - b)_R, where (N x0)_R reads Dw x0 = H0 b at the a-slots as K reads H0
-// (a derived row: (sum d0 x0[dSlot0] - b_b)/a0). The corrected solve is checked by its residual,
-// row by row, against the size of the row's terms: above 1e-13, one step of iterative
-// refinement (the correction loses digits on badly conditioned matrices, at small r); still
-// above 1e-11, N0 is factorized again.
 // x0 = N0^-1 b with N0's factors; or, where b differs from the last right-hand side solved with
 // them (bRef, when remember) in at most nc/8 entries, xRef plus those columns of the inverse: within a
 // step only the rows whose relations changed change their right-hand side
@@ -1535,6 +1532,9 @@ void baseSolve(const double *b, double *x, bool remember) {
   dgetrs_("N", &nc, &one, Q.N0.data(), &nc, Q.pivots.data(), x, &nc, &info);
   if (remember) { Q.bRef.assign(b, b + nc); Q.xRef.assign(x, x + nc); Q.haveRef = true; }
 }
+// x = N^-1 b (x and b distinct) with N0's factors and the correction: x0 = N0^-1 b (baseSolve),
+// then x = x0 - Y K^-1 (N x0 - b)_R, where (N x0)_R reads Dw x0 = H0 b at the a-slots as K reads
+// H0 (a derived row: (sum d0 x0[dSlot0] - b_b)/a0); newtonSolve checks it
 void correctedSolve(const double *b, double *x, bool remember = false) {
   const int nc = F.nc, one = 1, r = Q.changed.size();
   int info = 0;
@@ -1648,7 +1648,7 @@ int guard(int it, const double *c, const double *m) {
   for (int j = 0; j < L.n; j++)
   {
     double term = L.key[j];
-    if (!(L.pair[j] >= 0 && L.piece[j] == Slip)) {   // a disk's slip row changes at every iteration: its piece only
+    if (!diskSlip(j)) {                              // a disk's slip row changes at every iteration: its piece only
       term += 0.6180339887 * L.a[T * j] + 0.4142135624 * L.d[T * j];
       for (int t = 1; t < T; t++) term += (0.6180339887 * L.a[T * j + t] + 0.4142135624 * L.d[T * j + t]) * (t + 1);
     }

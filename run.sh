@@ -40,6 +40,10 @@ missing_dependencies() { # missing_dependencies [solve]: "solve" skips what only
 # runtools (errors, clock). Each is rebuilt when the POSIX cksum of its sources changes; the
 # kernel also gets it compiled in, to refuse to run with sources it was not built from.
 PLUGINS="$here/edp/plugins"
+# KERNEL_CXXFLAGS: the optimization flags of the plugins (default -O2). Another setting, e.g.
+# "-O0" or "-O2 -march=native -ffp-contract=fast", changes the order of floating-point
+# operations: the tests must pass with any of them (docs/reproduction.md, "What the tests check").
+KERNEL_CXXFLAGS="${KERNEL_CXXFLAGS:--O2}"
 kernel_buildable() {
   command -v g++ >/dev/null 2>&1 && [ -f /usr/include/freefem++/ff++.hpp ] && [ -f /usr/include/suitesparse/cholmod.h ] \
     && { [ -e /usr/lib/x86_64-linux-gnu/liblapack.so ] || [ -e /usr/lib/liblapack.so ]; }
@@ -52,11 +56,13 @@ build_plugin() { # build_plugin NAME "SOURCES..." [LIBRARIES...]: (re)build edp/
   done
   # shellcheck disable=SC2086
   sum="$(cd "$PLUGINS" && cat $sources | cksum | cut -d' ' -f1)"
-  [ -f "$target" ] && [ "$(cat "$target.cksum" 2>/dev/null)" = "$sum" ] && return 0
+  # the compiler flags are part of what was built: another KERNEL_CXXFLAGS rebuilds
+  [ -f "$target" ] && [ "$(cat "$target.cksum" 2>/dev/null)" = "$sum $KERNEL_CXXFLAGS" ] && return 0
   mkdir -p "$PLUGINS/build"
   local tmp="$target.$$" saved compiler
   saved="$(trap -p TERM INT HUP)"
-  g++ -O2 -std=c++14 -fPIC -shared -DNDEBUG -DKERNEL_SOURCES_CKSUM="$sum" -Wno-deprecated-declarations \
+  # shellcheck disable=SC2086
+  g++ $KERNEL_CXXFLAGS -std=c++14 -fPIC -shared -DNDEBUG -DKERNEL_SOURCES_CKSUM="$sum" -Wno-deprecated-declarations \
       -I/usr/include/freefem++ -I/usr/include/suitesparse "$PLUGINS/$name.cpp" -o "$tmp" "$@" &
   compiler=$!                                     # a signal during the build stops it and leaves no partial .so
   trap 'kill "$compiler" 2>/dev/null; wait "$compiler"; rm -f "$tmp"; exit 143' TERM
@@ -67,7 +73,7 @@ build_plugin() { # build_plugin NAME "SOURCES..." [LIBRARIES...]: (re)build edp/
   fi
   mv "$tmp" "$target"
   trap - TERM INT HUP; eval "$saved"
-  echo "$sum" > "$target.cksum"
+  echo "$sum $KERNEL_CXXFLAGS" > "$target.cksum"
   echo "run.sh: built $target" >&2
 }
 build_kernel() {

@@ -1,0 +1,200 @@
+# The solvers against each other: the full-system Newton, the fixed point, loose tolerances, the kernel, the law defined once, the safeguards.
+# Sourced by tests/run_tests.sh, in the order of the file names: it uses the harness's
+# variables and functions (solve, report, work, FREEFEM, PYTHON, coarse_options, ...).
+# ---- the full-system Newton gives the same discrete solution as the condensed one
+for problem in original penalty; do
+  base="paper-coarse-$problem"
+  diag="$work/full-$problem.diag"; : > "$diag"
+  # shellcheck disable=SC2086
+  if solve ${case_options[$base]} -solver full -out "$work/full-$problem" > "$diag" 2>&1 \
+     && "$PYTHON" tests/check_results.py "$work/full-$problem" --compare "$work/$base" --rtol 1e-9 >> "$diag" 2>&1; then
+    report 0 "full-system Newton = condensed Newton to 1e-9 ($problem)"
+  else
+    report 1 "full-system Newton = condensed Newton to 1e-9 ($problem)" "$diag"
+  fi
+done
+
+# ---- the fixed point solves the same discrete problem as Newton: the paper scene at the
+# defaults (the blessed cases' runs), then points of our own that no sweep of
+# tests/stability.sh runs (other scenes, r, meshes, time steps), for both solvers; where
+# neither can converge, both fail loudly
+for problem in original penalty; do
+  diag="$work/fixedpoint-$problem.diag"; : > "$diag"; status=0
+  # shellcheck disable=SC2086
+  if solve ${case_options[paper-$problem]} -solver fixedpoint -out "$work/fixedpoint-$problem" > "$diag" 2>&1 \
+     && "$PYTHON" tests/check_results.py "$work/fixedpoint-$problem" --compare "$work/paper-$problem" --rtol 1e-8 >> "$diag" 2>&1; then
+    mean=$(awk '$1 == "iterations_total" { t = $2 } $1 == "steps" { s = $2 } END { printf "%.1f", t / s }' "$work/fixedpoint-$problem/summary.txt")
+    awk -v m="$mean" 'BEGIN { exit !(m > 0 && m <= 100) }' || { echo "fixed point: $mean iterations a step (target <= 100)" >> "$diag"; status=1; }
+  else
+    status=1
+  fi
+  report $status "fixed point at its defaults = Newton to 1e-8 on the paper scene ($problem), at most 100 iterations a step on average" "$diag"
+done
+diag="$work/heldout.diag"; : > "$diag"; status=0
+# a block whose contact side is a concave arc, with friction (the default Newton of an earlier
+# version failed on it)
+gmsh -2 -format msh22 -v 0 tests/data/arc.geo -o "$work/arc.msh" > /dev/null 2>&1 || status=1
+grep -v -E '^(geometry|contact_normal|nx|ny|Lx|Ly) ' edp/scenes/paper.scene > "$work/arc.scene"
+while IFS='|' read -r name options; do
+  [ -n "$name" ] || continue
+  # shellcheck disable=SC2086
+  for solver in newton fixedpoint; do
+    solve $options -solver "$solver" -out "$work/heldout-$name-$solver" > "$work/heldout.log" 2>&1 \
+      || { echo "$name ($solver) did not converge:" >> "$diag"; tail -n 2 "$work/heldout.log" >> "$diag"; status=1; }
+  done
+  [ -d "$work/heldout-$name-newton" ] && [ -d "$work/heldout-$name-fixedpoint" ] || continue
+  "$PYTHON" tests/check_results.py "$work/heldout-$name-fixedpoint" --compare "$work/heldout-$name-newton" --rtol 1e-8 >> "$diag" 2>&1 \
+    || { echo "$name: the two solvers disagree (above)" >> "$diag"; status=1; }
+  for solver in newton fixedpoint; do
+    mean=$(awk '$1 == "iterations_total" { t = $2 } $1 == "steps" { s = $2 } END { printf "%.1f", t / s }' "$work/heldout-$name-$solver/summary.txt")
+    cap=$([ "$solver" = newton ] && echo 10 || echo 100)
+    awk -v m="$mean" -v c="$cap" 'BEGIN { exit !(m > 0 && m <= c) }' || { echo "$name ($solver): $mean iterations a step (at most $cap expected)" >> "$diag"; status=1; }
+  done
+done <<POINTS
+concave-arc|-scene $work/arc.scene -mesh $work/arc.msh -T 0.5
+r5e-4-40x20|-scene paper -nx 40 -ny 20 -r 5e-4 -T 0.6
+r2e3-mu1.2-load30|-scene paper -nx 40 -ny 20 -r 2e3 -mu 1.2 -load 30 -dt 0.025 -T 0.5
+cylinder-dt0.02|-scene cylinder -dt 0.02 -T 0.4
+unloading-mu0.8|-scene unloading -mu 0.8 -nx 32 -ny 16
+power-penalty|-scene power-damping -problem penalty -eps 1e-9 -nx 40 -ny 20 -T 0.5
+bound-profile-k0.05|-scene bound-profile -dt 0.05 -nx 50 -ny 25
+column-mu0.7|-scene column -mu 0.7 -load 12
+POINTS
+for solver in newton fixedpoint; do
+  rc=0; solve -scene paper -nx 40 -ny 20 -T 0.1 -solver "$solver" -maxit 1 -out "$work/heldout-cap-$solver" > "$work/heldout.log" 2>&1 || rc=$?
+  [ "$rc" = 4 ] && [ ! -e "$work/heldout-cap-$solver" ] && grep -Eq "^error: step 1 \(t = 0.01\): the contact solver did not converge after 1 iterations \(iteration cap reached\), residual [0-9.e+-]+ > tol 1e-10; no results written" "$work/heldout.log" \
+    || { echo "-maxit 1 ($solver): exit $rc" >> "$diag"; cat "$work/heldout.log" >> "$diag"; status=1; }
+done
+report $status "held-out points (other scenes, a concave contact arc, r 5e-4 and 2e3, meshes, time steps): Newton and the fixed point converge and agree to 1e-8; a cap they cannot meet fails loudly (exit 4, step, iterations, residual)" "$diag"
+
+# ---- what a loose tolerance, a stalled fixed point and a large eps do
+diag="$work/loose.diag"; : > "$diag"; status=0
+# -tol 1e-4: the residual alone would stop the fixed point with sticking nodes still slipping
+# (zones 15/49/2); a step also waits for the statuses, so the zones are Newton's
+solve -scene paper -solver fixedpoint -tol 1e-4 -out "$work/loose-fixedpoint" > "$diag" 2>&1 || status=1
+"$PYTHON" tests/check_results.py "$work/loose-fixedpoint" --zones 1,15,0,29,22 --rtol 1e-3 >> "$diag" 2>&1 || status=1   # 10 tol, as the run's own checks
+# a steep damping table where the sweeps settle away from a solution: exit 4 at once, saying so
+grep -v -E '^(cnu|damping) ' edp/scenes/paper.scene > "$work/steep.scene"; echo "damping table 0 0 0.01 0 0.02 5 0.05 5 0.06 1000" >> "$work/steep.scene"
+rc=0; solve -scene "$work/steep.scene" -T 0.5 -solver fixedpoint -out "$work/steep" > "$work/steep.log" 2>&1 || rc=$?
+[ "$rc" = 4 ] && [ ! -e "$work/steep" ] && grep -Eq "^error: step 1 \(t = 0.01\): the contact solver did not converge after [0-9]+ iterations \(the fixed point stalled: .*\), residual [0-9.e+-]+ > tol 1e-10; no results written" "$work/steep.log" \
+  && [ "$(sed -n 's/.*after \([0-9]*\) iterations.*/\1/p' "$work/steep.log")" -lt 500 ] \
+  || { echo "steep table, fixed point: exit $rc" >> "$diag"; cat "$work/steep.log" >> "$diag"; status=1; }
+solve -scene "$work/steep.scene" -T 0.5 -out "$work/steep-newton" >> "$diag" 2>&1 && "$PYTHON" tests/check_results.py "$work/steep-newton" >> "$diag" 2>&1 \
+  || { echo "steep table, Newton: did not converge" >> "$diag"; status=1; }
+# a large penalty eps: eps times the round-off of lambda_nu is no violation of the penalty law
+solve -scene paper -nx 16 -ny 8 -T 0.2 -problem penalty -eps 1e6 -out "$work/eps1e6" >> "$diag" 2>&1 \
+  && "$PYTHON" tests/check_results.py "$work/eps1e6" >> "$diag" 2>&1 || { echo "-eps 1e6 failed" >> "$diag"; status=1; }
+report $status "fixed point at -tol 1e-4: the paper's zones (statuses settled); a stalled fixed point stops at once with exit 4 and says so (Newton converges there); -eps 1e6 passes the penalty check" "$diag"
+
+# ---- the compiled kernel (edp/plugins/contactkernel.cpp): its linear algebra against
+# FreeFEM's UMFPACK, and its Newton against the script Newton of edp/lib/contact.idp
+diag="$work/kernel.diag"; : > "$diag"
+if "${FREEFEM[@]}" tests/kernel_check.edp > "$diag" 2>&1 && grep -q "kernel_check: all checks passed" "$diag"; then
+  report 0 "kernel: solve, Delassus matrix, both halves of the back-substitution = UMFPACK, products and the record of a step = FreeFEM, to 1e-12"
+else
+  report 1 "kernel: solve, Delassus matrix, both halves of the back-substitution = UMFPACK, products and the record of a step = FreeFEM, to 1e-12" "$diag"
+fi
+# calls in a wrong order stop with the kernel's message (FreeFEM's exit code 8 for an
+# execution error), never with a crash or stale data
+while IFS='|' read -r misuse expected; do
+  diag="$work/kernel-misuse-$misuse.diag"; : > "$diag"; status=0
+  "${FREEFEM[@]}" tests/kernel_check.edp -misuse "$misuse" > "$diag" 2>&1 || status=$?
+  if [ "$status" = 8 ] && grep -q "$expected" "$diag"; then
+    report 0 "kernel misuse $misuse refused: $expected"
+  else
+    echo "exit code $status, expected 8 and '$expected'" >> "$diag"
+    report 1 "kernel misuse $misuse refused: $expected" "$diag"
+  fi
+done <<'CASES'
+1|contactKernelSolve without a successful contactKernelFactorize
+2|contactKernelNewton: call contactKernelDelassus after the last contactKernelFactorize
+3|contactKernelFactorize: C has 32 rows, but contactKernelNodes gave 34 slots
+4|contactKernelNodes: slot numbers must be 0 .. slots-1, each used once
+5|contactKernelRecord: call contactKernelRecordStart
+6|contactKernelParameter: unknown parameter 'gravity'
+CASES
+for problem in original penalty; do
+  diag="$work/script-$problem.diag"; : > "$diag"; status=0
+  if solve -scene paper -problem "$problem" -kernel script -out "$work/script-$problem" > "$diag" 2>&1 \
+     && "$PYTHON" tests/check_results.py "$work/script-$problem" --compare "$work/paper-$problem" --rtol 1e-9 >> "$diag" 2>&1; then
+    for key in iterations_total iterations_max newton_fallbacks fixed_point_sweeps; do
+      a=$(grep "^$key " "$work/script-$problem/summary.txt"); b=$(grep "^$key " "$work/paper-$problem/summary.txt")
+      [ -n "$a" ] && [ "$a" = "$b" ] || { echo "script: '$a', compiled: '$b'" >> "$diag"; status=1; }
+    done
+  else
+    status=1
+  fi
+  report $status "compiled Newton = script Newton: same iterations and fixed-point fallbacks, values to 1e-9 ($problem)" "$diag"
+done
+# ---- the law is defined once (edp/plugins/contactlaw.hpp): a different damped response,
+# p(r) = c_nu r_+^2 written in its linear case in a copy of the suite (the walkthrough's
+# exercise 1), gives the same new results with the default compiled Newton and its script
+# view, the same as the scene key damping power 1000 2 with the suite as it is, the outputs
+# follow the new law, and they differ from the paper law's
+diag="$work/otherlaw.diag"; : > "$diag"; status=0
+other="$work/otherlaw"
+rm -rf "$other" && mkdir -p "$other/meshes" && cp -r edp run.sh freefem++.pref "$other/" && cp meshes/*.geo "$other/meshes/"
+rm -rf "$other/edp/plugins/build"
+law="$other/edp/plugins/contactlaw.hpp"
+sed -i -e 's|^  return P.cnu \* r; *// Linear$|  return P.cnu * r * r;   // Linear|' \
+       -e 's|^  return P.cnu; *// Linear$|  return 2 * P.cnu * r;   // Linear|' "$law"
+[ "$(diff edp/plugins/contactlaw.hpp "$law" | grep -c '^>')" = 2 ] \
+  || { echo "could not write the quadratic law into $law (the linear case of dampedResponse, dampedResponseSlope)" >> "$diag"; status=1; }
+otherlaw_options=(-nx 16 -ny 8 -dt 0.05 -cnu 1000)
+for kernel in compiled script; do   # from the copy's folder: its freefem++.pref loads its own kernel
+  (cd "$other" && bash run.sh solve "${otherlaw_options[@]}" -kernel "$kernel" -out "$root/$work/otherlaw-$kernel") >> "$diag" 2>&1 || status=1
+done
+solve "${otherlaw_options[@]}" -out "$work/otherlaw-paper" >> "$diag" 2>&1 || status=1
+grep -v -e '^damping' -e '^cnu ' edp/scenes/paper.scene > "$work/otherlaw.scene"; echo "damping power 1000 2" >> "$work/otherlaw.scene"
+solve -scene "$work/otherlaw.scene" "${otherlaw_options[@]}" -out "$work/otherlaw-scene" >> "$diag" 2>&1 || status=1
+"$PYTHON" tests/check_results.py "$work/otherlaw-script" --compare "$work/otherlaw-compiled" --other-law --rtol 1e-9 >> "$diag" 2>&1 \
+  || { echo "the script view differs from the compiled Newton, or a law-independent check failed" >> "$diag"; status=1; }
+"$PYTHON" tests/check_results.py "$work/otherlaw-scene" --compare "$work/otherlaw-compiled" --rtol 1e-9 >> "$diag" 2>&1 \
+  || { echo "the scene key damping power 1000 2 differs from the edited law" >> "$diag"; status=1; }
+# p_nu - lambda_nu = 1000 (v_nu)_+^2 on every node, and not the paper's 1000 (v_nu)_+
+awk '!/^#/ { vn = $2 > 0 ? $2 : 0; d = $4 - $5 - 1000 * vn * vn; if (d < 0) d = -d; if (d > 1e-9) bad++; n++ }
+     END { if (!n || bad) { print "contact.txt does not follow p = 1000 (v_nu)_+^2 on " bad + 0 " of " n " nodes"; exit 1 } }' \
+  "$work/otherlaw-compiled/contact.txt" >> "$diag" || status=1
+"$PYTHON" tests/check_results.py "$work/otherlaw-compiled" --compare "$work/otherlaw-paper" --other-law --rtol 1e-6 > /dev/null 2>&1 \
+  && { echo "the quadratic law gives the paper law's results" >> "$diag"; status=1; }
+report $status "a law changed only in edp/plugins/contactlaw.hpp (p = c r^2): compiled = script Newton = damping power 1000 2 to 1e-9, outputs follow it" "$diag"
+# a law the solvers cannot use is refused when the run starts (exit 3, no output): p' that
+# does not match p (exercise 1 with the slope forgotten), a zone function out of 0..4
+law_refused() { # law_refused NAME OLD NEW REGEX: the copy's law with OLD replaced by NEW
+  local name="$1" old="$2" new="$3" regex="$4" diag="$work/otherlaw-$1.diag" status=0 rc=0
+  cp edp/plugins/contactlaw.hpp "$law"
+  OLD="$old" NEW="$new" "$PYTHON" -c 'import os, sys; p = sys.argv[1]; s = open(p).read(); o, n = os.environ["OLD"], os.environ["NEW"]
+assert o in s, "not found: " + o; open(p, "w").write(s.replace(o, n))' "$law" > "$diag" 2>&1 || status=1
+  (cd "$other" && bash run.sh solve "${otherlaw_options[@]}" -out "$root/$work/otherlaw-$name") >> "$diag" 2>&1 || rc=$?
+  [ "$rc" = 3 ] || { echo "exit code $rc, expected 3" >> "$diag"; status=1; }
+  grep -Eq "$regex" "$diag" || { echo "message does not match /$regex/" >> "$diag"; status=1; }
+  [ -e "$work/otherlaw-$name" ] && { echo "results were written" >> "$diag"; status=1; }
+  report $status "refused: a law with $name in edp/plugins/contactlaw.hpp" "$diag"
+}
+law_refused "a slope that does not match p" "  return P.cnu * r;   " "  return P.cnu * r * r;   " \
+  "the law of edp/plugins/contactlaw.hpp cannot be used: p'.* but the difference quotient of p there is"
+law_refused "a zone out of 0..4" "return normal > 0 ? 2 * normal - tangential : 0;" "return normal > 0 ? 2 * normal + tangential : 0;" \
+  "cannot be used: zone\(2, 1\) is not a zone 0..4"
+law_refused "a negative friction bound" "{ return P.mu * dampedResponse(P, vn); }" "{ return -P.mu * dampedResponse(P, vn); }" \
+  "cannot be used: the friction bound is not finite and >= 0"
+diag="$work/umfpackfloor.diag"; : > "$diag"; status=0
+if solve "${coarse_options[@]}" -umfpackfloor on -out "$work/umfpackfloor" > "$diag" 2>&1; then
+  for key in time_backsubstitution time_backsubstitution_umfpack time_factorization_umfpack; do
+    awk -v k="$key" '$1 == k && $2 > 0 { found = 1 } END { exit !found }' "$work/umfpackfloor/summary.txt" \
+      || { echo "no positive $key in summary.txt" >> "$diag"; status=1; }
+  done
+else
+  status=1
+fi
+report $status "-umfpackfloor on: summary.txt has both floors (kernel and UMFPACK)" "$diag"
+
+# ---- the safeguards (line search, augmentation halving) do not change the discrete
+# solution: the fine paper case again with another augmentation
+diag="$work/augmentation.diag"; : > "$diag"
+if solve -scene paper -nx 132 -ny 66 -r 0.3 -out "$work/fine-r0.3" > "$diag" 2>&1 \
+   && "$PYTHON" tests/check_results.py "$work/fine-r0.3" --compare "$work/paper-fine-original" --rtol 1e-9 >> "$diag" 2>&1; then
+  report 0 "the solution does not depend on the augmentation r (1 vs 0.3, 132x66)"
+else
+  report 1 "the solution does not depend on the augmentation r (1 vs 0.3, 132x66)" "$diag"
+fi
+

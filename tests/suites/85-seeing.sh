@@ -1,0 +1,74 @@
+# Seeing a run: -help, VTK, the Newton log, progress; the lab sheet; the figure names.
+# Sourced by tests/run_tests.sh, in the order of the file names: it uses the harness's
+# variables and functions (solve, report, work, FREEFEM, PYTHON, coarse_options, ...).
+# ---- see a run: -help, the VTK series read back by VTK itself, the Newton log, progress
+diag="$work/help.diag"; : > "$diag"; status=0
+for flag in -help -h --help; do
+  rc=0; solve -scene column "$flag" > "$work/help.txt" 2> "$work/help.err" || rc=$?
+  [ "$rc" = 0 ] && [ ! -s "$work/help.err" ] || { echo "$flag: exit $rc" >> "$diag"; cat "$work/help.err" >> "$diag"; status=1; }
+done
+# every option of edp/options.txt, and the same options as the README's table, with the scene's default
+for name in $(awk '!/^#/ && NF >= 5 && $1 != "when" { print $1 }' edp/options.txt); do
+  grep -q -- "^  -${name}  " "$work/help.txt" || { echo "-help does not list -${name}" >> "$diag"; status=1; }
+done
+readme_options=$(awk -F'|' '/^\| `-/ { print $2 }' README.md | grep -o -- '`-[a-zA-Z_]*`' | tr -d '`' | sort | tr '\n' ' ')
+help_options=$(grep -o -- '^  -[a-zA-Z_]*' "$work/help.txt" | tr -d ' ' | sort | tr '\n' ' ')
+[ "$readme_options" = "$help_options" ] || { echo "README's table: $readme_options; -help: $help_options" >> "$diag"; status=1; }
+grep -q -- '^  -nx  8  ' "$work/help.txt" || { echo "-help does not give the column scene's nx 8" >> "$diag"; status=1; }
+report $status "-help, -h, --help list every option (edp/options.txt, the README's table) with the scene's defaults, exit 0" "$diag"
+
+diag="$work/vtk.diag"; : > "$diag"; status=0
+for scene in column cylinder; do
+  rm -rf "$work/vtk-$scene"
+  solve -scene "$scene" -nx 8 -T 0.2 -dt 0.05 -vtk 3 -out "$work/vtk-$scene" >> "$diag" 2>&1 || status=1
+  "$PYTHON" tests/check_vtk.py "$work/vtk-$scene" >> "$diag" 2>&1 || status=1
+  "$PYTHON" tests/check_results.py "$work/vtk-$scene" >> "$diag" 2>&1 || status=1
+  ls "$work/vtk-$scene/vtk" | tr '\n' ' ' | grep -qx 'fields.pvd fields_000000.vtu fields_000003.vtu fields_000004.vtu ' \
+    || { echo "$scene: vtk/ holds $(ls "$work/vtk-$scene/vtk" | tr '\n' ' ')" >> "$diag"; status=1; }
+done
+# a run replaced by another: the earlier vtk/ goes with it; a file of the user's in vtk/ is not ours to replace
+solve -scene column -nx 8 -T 0.2 -dt 0.05 -out "$work/vtk-column" >> "$diag" 2>&1 || status=1
+[ ! -e "$work/vtk-column/vtk" ] || { echo "the earlier vtk/ was left in a replaced folder" >> "$diag"; status=1; }
+solve -scene column -nx 8 -T 0.2 -dt 0.05 -vtk 1 -out "$work/vtk-column" >> "$diag" 2>&1 || status=1
+touch "$work/vtk-column/vtk/mine.txt"
+rc=0; solve -scene column -nx 8 -T 0.2 -dt 0.05 -out "$work/vtk-column" >> "$diag" 2>&1 || rc=$?
+[ "$rc" = 7 ] && [ -e "$work/vtk-column/vtk/mine.txt" ] || { echo "a file of the user's in vtk/: exit $rc" >> "$diag"; status=1; }
+report $status "-vtk N: fields.pvd and .vtu frames read back by VTK equal fields.txt and the zones; replaced with their run, a user's file kept" "$diag"
+
+diag="$work/log.diag"; : > "$diag"; status=0
+rm -rf "$work/log"
+solve -scene paper -nx 16 -ny 8 -T 0.2 -dt 0.05 -verbose -out "$work/log" > /dev/null 2> "$work/log.err" || status=1
+[ "$(grep -c '^step [0-9]*/4 (t = ' "$work/log.err")" = 4 ] && grep -q '^Solver log: 16 normal slots .* and 15 tangential' "$work/log.err" \
+  && grep -q '^  iteration 0 (the previous .*): residual .*; slots: damped 16, stick [0-9]*, slip [0-9]*$' "$work/log.err" \
+  && grep -q '^  iteration 1: residual .* (the Newton iterate did not lower the merit: one fixed-point iteration instead); changed: stick +[0-9]*, slip -[0-9]*$' "$work/log.err" \
+  || { echo "-verbose:" >> "$diag"; cat "$work/log.err" >> "$diag"; status=1; }
+# a run of more than 2 s shows its progress about once a second, on stderr; -quiet none
+rm -rf "$work/log"
+solve -nx 132 -ny 66 -T 0.6 -dt 0.001 -out "$work/log" > "$work/log.out" 2> "$work/log.err" || status=1
+grep -q '^step [0-9]*/600 (t = .*), [0-9]* iterations*; zones: ' "$work/log.err" && ! grep -q '^step' "$work/log.out" \
+  || { echo "no progress line in a run whose loop took $(awk '$1 == "time_loop" { print $2 }' "$work/log/summary.txt") s" >> "$diag"; status=1; }
+rm -rf "$work/log"
+solve -nx 132 -ny 66 -T 0.6 -dt 0.001 -quiet -out "$work/log" > /dev/null 2> "$work/log.err" || status=1
+[ ! -s "$work/log.err" ] || { echo "-quiet printed:" >> "$diag"; head -3 "$work/log.err" >> "$diag"; status=1; }
+report $status "-verbose logs each Newton iteration and step; a long run shows progress on stderr, -quiet silences it" "$diag"
+grep -v '^#' edp/scenes/column.scene > "$work/quiet.scene"; echo "quiet on" >> "$work/quiet.scene"
+expect_failure "a flag given a value in a scene" 3 "quiet.scene:[0-9]+: 'quiet' is a flag of the command line" -scene "$work/quiet.scene"
+expect_failure "a flag given a value" 2 "option -quiet is a flag: it takes no value, got 'on'" -quiet on
+expect_failure "-help as the value of an option" 2 "option -vtk needs a value, got the option '-help'" -vtk -help
+expect_failure "-every below 0" 2 "option -every = -1 is out of range" -every -1
+
+# ---- the lab sheet's commands run as written (docs/lab.md)
+# tests/lab.sh runs every ```sh block of the sheet in order, in one shell with a fresh
+# temporary $LAB, then checks the numbers the sheet states against the runs it made.
+diag="$work/lab.diag"
+bash tests/lab.sh "$work/lab.log" > "$diag" 2>&1
+report $? "docs/lab.md: every command of the lab sheet runs, and gives the numbers the sheet states" "$diag"
+# ---- end lab
+
+# ---- the figures' names: plots/suite.py (FIGURES_DRAWN) and edp/plugins/runtools.cpp (figuresDrawn) list the same
+diag="$work/names.diag"; : > "$diag"
+py_names=$("$PYTHON" -c 'import suite; print(" ".join(sorted(suite.FIGURES_DRAWN)))' 2>> "$diag")
+cpp_names=$(sed -n '/^bool figuresDrawn/,/^}/p' edp/plugins/runtools.cpp | grep -o '"[a-zA-Z_]*\.[a-z0-9]*"' | tr -d '"' | sort | tr '\n' ' ' | sed 's/ $//')
+echo "plots/suite.py: $py_names; runtools.cpp: $cpp_names" >> "$diag"
+[ -n "$py_names" ] && [ "$py_names" = "$cpp_names" ]; report $? "the names of the figures drawn: the same list in plots/suite.py and edp/plugins/runtools.cpp" "$diag"
+

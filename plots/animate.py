@@ -19,9 +19,10 @@ A 3D run (summary.txt: dimension 3) needs no vtk/: its animation is Gamma3 seen 
 contact_nodes_history.txt, the nodes per zone against t below (animate3).
 """
 import argparse
+import contextlib
+import io
 import os
 import shutil
-import warnings
 
 import matplotlib.animation as manimation
 import matplotlib.collections as mcollections
@@ -32,21 +33,34 @@ import numpy as np
 import suite
 
 plt = suite.pyplot()
-# An animation that a failure ends before it is saved would warn at its deletion; the error
-# message says what went wrong.
-warnings.filterwarnings("ignore", "Animation was deleted without rendering anything")
 FRAMES, FPS, DPI = 100, 10, 80          # at most 100 frames, 10 a second, 80 pixels an inch
 LEGEND = (len(suite.ZONES), 5, 1.5)     # the zones' legend: 5 entries, up to 5 columns of 1.5 inches
 ZONE_COLORS = {zone.code: zone.color for zone in suite.ZONES}
 
 
 def save_animation(fig, draw, count, files, written):
-    """The frames draw(0 .. count-1) of fig as the GIF written[0] (and the MP4 written[1]), through
-    the all-or-nothing files (suite.FigureFiles); returns written."""
-    animation = manimation.FuncAnimation(fig, draw, frames=count, interval=1000 / FPS)
-    animation.save(files.temporary(written[0]), writer=manimation.PillowWriter(fps=FPS), dpi=DPI)
-    if len(written) > 1:
-        animation.save(files.temporary(written[1]), writer=manimation.FFMpegWriter(fps=FPS), dpi=DPI)
+    """The frames draw(0 .. count-1) of fig as the GIF written[0] (Pillow) and the MP4
+    written[1] (ffmpeg), each into a new file of files (suite.FigureFiles: never through a
+    symbolic link), then put into place (files.commit()); returns written."""
+    from PIL import Image
+    size = [int(side * DPI) for side in fig.get_size_inches()]
+    frames = []
+    with contextlib.ExitStack() as stack:
+        movie = None
+        if len(written) > 1:
+            target = stack.enter_context(files.open(written[1]))
+            movie = manimation.FFMpegWriter(fps=FPS, extra_args=["-pix_fmt", "yuv420p", "-f", "mp4"])
+            # ffmpeg writes into the new file through this process's descriptor of it (no name it could follow)
+            stack.enter_context(movie.saving(fig, f"/proc/{os.getpid()}/fd/{target.fileno()}", DPI))
+        for k in range(count):
+            draw(k)
+            frame = io.BytesIO()
+            fig.savefig(frame, format="rgba", dpi=DPI)
+            frames.append(Image.frombuffer("RGBA", size, frame.getbuffer(), "raw", "RGBA", 0, 1))
+            if movie:
+                movie.grab_frame()
+    with files.open(written[0]) as gif:
+        frames[0].save(gif, format="GIF", save_all=True, append_images=frames[1:], duration=int(1000 / FPS), loop=0)
     plt.close(fig)
     files.commit()
     return written
@@ -217,6 +231,7 @@ def legend_rows(fig):
 
 
 def main():
+    suite.check_arguments("animate.py")                 # a name not in UTF-8: refused before anything
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("folder", metavar="RUN_DIR")
     for path in animate(parser.parse_args().folder):

@@ -449,10 +449,12 @@ def chart_iterations(bench, columns, rows):
 
 
 def main():
+    suite.check_arguments("bench.py")                   # a name not in UTF-8: refused before anything
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("--bench", required=True)
     parser.add_argument("--reference", required=True)
     args = parser.parse_args()
+    suite.check_outputs("bench.py", [args.bench])       # not written through a symbolic link
     columns, rows = steps_table(args.bench)
     columns3d, rows3d = steps_table(args.bench, "steps3d-", "steps3d.txt")   # the 3D slab: its own table
     c = {name: i for i, name in enumerate(columns)}

@@ -366,18 +366,20 @@ FIGURES = {"fig2": fig2_deformed, "fig3": fig3_contact_reactions, "fig4": fig4_v
 
 
 def main():
+    suite.check_arguments("figures.py")                 # a name not in UTF-8: refused before anything
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("--results", required=True)
     parser.add_argument("--out", required=True)
     parser.add_argument("names", nargs="*", help="figures to draw: " + " ".join(FIGURES))
     args = parser.parse_args()
+    suite.check_outputs("figures.py", [args.out])       # not written through a symbolic link
     unknown = [n for n in args.names if n not in FIGURES]
     if unknown:
-        raise suite.InputError(f"no run folder '{unknown[0]}' and no figure named {unknown[0]} "
+        raise suite.InputError(f"no run folder '{suite.shown(unknown[0])}' and no figure named {suite.shown(unknown[0])} "
                                f"(figures: {' '.join(FIGURES)})")
     for problem in PROBLEMS:
         if not os.path.isfile(os.path.join(args.results, f"paper-{problem}", "summary.txt")):
-            raise suite.InputError(f"no results in {args.results}/paper-{problem}: run ./run.sh first")
+            raise suite.InputError(f"no results in {suite.shown(args.results)}/paper-{problem}: run ./run.sh first")
     for name in args.names or FIGURES:
         print(f"figures.py: {name} -> {FIGURES[name](args.results, args.out)}")
 

@@ -502,6 +502,7 @@ def plan(runs):
 
 
 def main():
+    suite.check_arguments("run_figures.py")             # a name not in UTF-8: refused before anything
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("folders", nargs="+", metavar="RUN_DIR")
     runs = [Run(folder) for folder in parser.parse_args().folders]      # every folder checked first

@@ -233,19 +233,21 @@ SOURCES = {"eps_method": "eps", "r_method": "r", "k_mu": "kmu", "mu_method": "mu
 
 
 def main():
+    suite.check_arguments("stability.py")               # a name not in UTF-8: refused before anything
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("--results", required=True, help="results/stability")
     parser.add_argument("--out", required=True, help="folder of the PNG files")
     parser.add_argument("names", nargs="*", help="maps to draw (default all): " + " ".join(MAPS))
     args = parser.parse_args()
+    suite.check_outputs("stability.py", [args.out])     # not written through a symbolic link
     unknown = [n for n in args.names if n not in MAPS]
     if unknown:
-        print(f"stability.py: error: unknown map {unknown[0]} (maps: {' '.join(MAPS)})", file=sys.stderr)
+        print(f"stability.py: error: unknown map {suite.shown(unknown[0])} (maps: {' '.join(MAPS)})", file=sys.stderr)
         sys.exit(2)
     os.makedirs(args.out, exist_ok=True)
     for name in args.names or MAPS:
         if not os.path.isfile(os.path.join(args.results, f"{SOURCES[name]}.txt")):
-            print(f"stability.py: no {SOURCES[name]}.txt in {args.results}: {name} skipped")
+            print(f"stability.py: no {SOURCES[name]}.txt in {suite.shown(args.results)}: {name} skipped")
             continue
         MAPS[name](args.results, args.out)
 

@@ -18,10 +18,13 @@ tool runs its main() through run_tool(), which prints that message as one line a
 exits non-zero, without a traceback.
 """
 import collections
+import contextlib
 import functools
 import os
 import re
+import stat
 import sys
+import unicodedata
 
 import numpy as np
 
@@ -74,6 +77,122 @@ def read_lines(path):
         raise InputError(f"{path}: not a text file") from None
     except OSError as error:
         raise InputError(f"cannot read {path}: {error.strerror}") from None
+
+
+# ---------------------------------------------------------------- names, folders and files of the user
+FOLDER = os.O_RDONLY | os.O_DIRECTORY | os.O_CLOEXEC
+NEW_FILE = os.O_WRONLY | os.O_CREAT | os.O_EXCL | os.O_NOFOLLOW | os.O_CLOEXEC     # a new file, never a link's target
+
+
+def shown(value, limit=80):
+    """A name (a path, an argument) as a message shows it: bytes that are not UTF-8 and
+    control or format characters as backslash escapes (\\xff, \\n, \\u2028), so that the
+    message stays one printable line, cut to its start and end around '...' when longer than
+    `limit` characters."""
+    text = os.fsencode(value).decode("utf-8", "surrogateescape") if isinstance(value, (str, bytes)) else str(value)
+    pieces = [f"\\x{ord(c) - 0xdc00:02x}" if 0xdc80 <= ord(c) <= 0xdcff          # a byte that is not UTF-8
+              else c.encode("unicode_escape").decode("ascii") if unicodedata.category(c)[0] == "C"
+              or unicodedata.category(c) in ("Zl", "Zp") else c for c in text]   # (an escape is never cut)
+    if sum(map(len, pieces)) <= limit:
+        return "".join(pieces)
+    head, tail = "", ""
+    for piece in pieces:
+        if len(head) + len(piece) > limit // 2:
+            break
+        head += piece
+    for piece in reversed(pieces):
+        if len(tail) + len(piece) > limit - limit // 2 - 3:
+            break
+        tail = piece + tail
+    return head + "..." + tail
+
+
+def refuse(tool, message):
+    """End the tool at once: 'TOOL: error: MESSAGE' on stderr, exit status 2 (a bad argument)."""
+    print(f"{tool}: error: {message}", file=sys.stderr)
+    sys.exit(2)
+
+
+def check_arguments(tool):
+    """Refuse (refuse(): exit 2, before anything is read or written) a command-line argument
+    that is not valid UTF-8, or that holds a control character or a line separator (the
+    tools print the names they read and write one a line), showing it escaped."""
+    for argument in sys.argv[1:]:
+        raw = os.fsencode(argument)
+        try:
+            text = raw.decode("utf-8")
+        except UnicodeDecodeError:
+            refuse(tool, f"the argument '{shown(raw)}' is not valid UTF-8 (bytes shown as \\xNN): "
+                         "give the name in UTF-8 (rename the folder)")
+        if any(unicodedata.category(c) in ("Cc", "Zl", "Zp") for c in text):
+            refuse(tool, f"the argument '{shown(raw)}' holds a control character or a line separator: "
+                         "rename the folder")
+
+
+def check_outputs(tool, folders):
+    """Refuse (refuse(): exit 2) an output folder given on the command line that exists but
+    that open_folder refuses: a symbolic link, or one reached through a link of a run folder."""
+    for folder in folders:
+        if folder is not None and os.path.lexists(folder):
+            try:
+                os.close(open_folder(folder))
+            except InputError as error:
+                refuse(tool, str(error))
+
+
+def lstat_mode(name, folder):
+    """The st_mode of `name` in the folder of descriptor `folder` (a link itself, not what it
+    points to); None when there is no such name."""
+    try:
+        return os.stat(name, dir_fd=folder, follow_symlinks=False).st_mode
+    except FileNotFoundError:
+        return None
+
+
+def is_link(name, folder):
+    mode = lstat_mode(name, folder)
+    return mode is not None and stat.S_ISLNK(mode)
+
+
+def open_folder(path, make=False):
+    """A descriptor of the folder `path` that the tools write into, opened one component at a
+    time (missing ones made when make), so that what they write there cannot be sent elsewhere
+    by a path changed meanwhile. A symbolic link on the way is followed only where a user's
+    own folders may have one: never as the folder itself (the last component), nor inside a
+    run folder (a folder holding run.complete: a run's figures/ made a link would send the
+    figures elsewhere); InputError for those, and for a folder that cannot be opened."""
+    fd = os.open("/" if path.startswith("/") else ".", FOLDER)
+    parts = [part for part in path.split("/") if part not in ("", ".")]
+    try:
+        for k, part in enumerate(parts):
+            try:
+                try:
+                    child = os.open(part, FOLDER | os.O_NOFOLLOW, dir_fd=fd)
+                except FileNotFoundError:
+                    if not make:
+                        raise
+                    os.mkdir(part, dir_fd=fd)
+                    child = os.open(part, FOLDER | os.O_NOFOLLOW, dir_fd=fd)
+            except OSError as error:
+                if not is_link(part, fd):
+                    raise InputError(f"cannot open the folder {shown(path)}: {error.strerror}") from None
+                if k == len(parts) - 1:
+                    raise InputError(f"{shown(path)} is a symbolic link: the suite does not write through one; "
+                                     "give the folder it points to") from None
+                if lstat_mode("run.complete", fd) is not None:
+                    link = ("/" if path.startswith("/") else "") + "/".join(parts[:k + 1])
+                    raise InputError(f"{shown(path)} is reached through {shown(link)}, a symbolic link in a run "
+                                     "folder: the suite does not write through one") from None
+                try:
+                    child = os.open(part, FOLDER, dir_fd=fd)
+                except OSError as error:
+                    raise InputError(f"cannot open the folder {shown(path)}: {error.strerror}") from None
+            os.close(fd)
+            fd = child
+    except BaseException:
+        os.close(fd)
+        raise
+    return fd
 
 
 # ---------------------------------------------------------------- output files
@@ -203,10 +322,10 @@ def run_folder(folder):
     """The folder, if it is the folder of a finished run (it holds summary.txt and
     run.complete, docs/design.md "Output files"); otherwise InputError."""
     if not os.path.isdir(folder):
-        raise InputError(f"{folder}: no such folder")
+        raise InputError(f"{shown(folder)}: no such folder")
     missing = [name for name in ("summary.txt", "run.complete") if not os.path.isfile(os.path.join(folder, name))]
     if missing:
-        raise InputError(f"{folder} is not the folder of a finished run (no {' and no '.join(missing)})")
+        raise InputError(f"{shown(folder)} is not the folder of a finished run (no {' and no '.join(missing)})")
     return folder
 
 
@@ -248,12 +367,10 @@ def write_table(path, comments, columns, rows):
         if isinstance(value, np.integer):
             return str(int(value))
         return str(value)
-    with open(path, "w") as f:
-        for line in comments:
-            f.write(f"# {line}\n")
-        f.write("# " + " ".join(columns) + "\n")
-        for row in rows:
-            f.write(" ".join(text(value) for value in row) + "\n")
+    lines = [f"# {line}" for line in comments] + ["# " + " ".join(columns)]
+    lines += [" ".join(text(value) for value in row) for row in rows]
+    with new_file(path) as f:                   # never through a symbolic link
+        f.write(("\n".join(lines) + "\n").encode())
 
 
 # ---------------------------------------------------------------- meshes
@@ -1105,28 +1222,47 @@ FIGURES_LIST = "figures.list"
 FIGURES_SIGNATURE = "# figures.list: the figures plots/ of this suite drew here; they go with the run's results"
 
 
-def figures_listed(out):
-    """The names a figures/ folder's figures.list gives (those of FIGURES_DRAWN only); None
-    when there is no figures.list. InputError when there is one without the signature line."""
+def figures_listed(folder, out):
+    """The names the figures.list of a figures/ folder (descriptor `folder`, named `out` in
+    messages) gives, those of FIGURES_DRAWN only, and its bytes: (None, None) when there is
+    none. InputError when it is a symbolic link, or is there without the signature line."""
     listed = os.path.join(out, FIGURES_LIST)
-    if not os.path.lexists(listed):
-        return None
-    lines = read_lines(listed) if os.path.isfile(listed) else []
-    if not lines or lines[0] != FIGURES_SIGNATURE:
-        raise InputError(f"{listed} was not written by this suite (no signature line): "
+    try:
+        fd = os.open(FIGURES_LIST, os.O_RDONLY | os.O_NOFOLLOW | os.O_NONBLOCK | os.O_CLOEXEC, dir_fd=folder)
+    except FileNotFoundError:
+        return None, None
+    except OSError:
+        fd = None
+    if fd is None or not stat.S_ISREG(os.fstat(fd).st_mode):
+        if fd is not None:
+            os.close(fd)
+        if is_link(FIGURES_LIST, folder):
+            raise InputError(f"{shown(listed)} is a symbolic link: the suite does not write through one; remove it")
+        data = b""
+    else:
+        with os.fdopen(fd, "rb") as f:
+            data = f.read()
+    lines = data.decode("utf-8", "replace").split("\n")
+    if not data or lines[0] != FIGURES_SIGNATURE:
+        raise InputError(f"{shown(listed)} was not written by this suite (no signature line): "
                          "move it away, the figures cannot be listed")
-    return {name for name in lines[1:] if name in FIGURES_DRAWN}
+    return {name for name in lines[1:] if name in FIGURES_DRAWN}, data
 
 
 class FigureFiles:
     """The figures one tool draws into run folders' figures/ (paths OUT/figures/NAME, NAME
-    of FIGURES_DRAWN), written all or nothing. Made before anything is drawn, it refuses
-    (InputError naming the file) a path that holds anything but a figure figures.list lists:
-    a file of the user's is never overwritten. save() and temporary() write each figure to
-    OUT/figures/.STEM.tmp.PID.EXT; commit() then adds the names to each figures.list and
-    renames the temporaries into place. abort() (run_tool calls it on any failure) removes
-    the temporaries, puts back the figures.list files it changed, and removes a figures/ it
-    made that is empty again: the folders are left as they were."""
+    of FIGURES_DRAWN), written all or nothing and never through a symbolic link. Made before
+    anything is drawn, it opens each run folder (open_folder: not a link, nor reached through
+    one that a run folder holds) and its figures/ (O_NOFOLLOW), and keeps them open: what it
+    then writes goes into those folders even if a path is changed meanwhile. It refuses
+    (InputError naming the file) a figures/, figures.list or figure that is a symbolic link,
+    and a path that holds anything but a figure figures.list lists: a file of the user's is
+    never overwritten. open() and save() write each figure to a new file
+    OUT/figures/.STEM.tmp.PID.EXT (O_EXCL, O_NOFOLLOW); commit() then writes each
+    figures.list anew (a temporary renamed onto it) and renames the temporaries into place.
+    abort() (run_tool calls it on any failure) removes the temporaries, puts back the
+    figures.list files it changed, and removes a figures/ it made: the folders are left as
+    they were."""
 
     pending = []            # the FigureFiles not yet committed or aborted (run_tool aborts them)
 
@@ -1136,39 +1272,64 @@ class FigureFiles:
         for path in self.paths:
             if os.path.basename(path) not in FIGURES_DRAWN:
                 raise ValueError(f"{path}: not one of the figures the suite draws ({' '.join(FIGURES_DRAWN)})")
-        self.listed = {}
-        for out in self.folders:
-            if os.path.lexists(out) and not os.path.isdir(out):
-                raise InputError(f"{out} is not a folder: the figures cannot go there")
-            self.listed[out] = figures_listed(out) if os.path.isdir(out) else None
-        for path in self.paths:
-            listed = self.listed[os.path.dirname(path)] or set()
-            if os.path.lexists(path) and (os.path.basename(path) not in listed or os.path.islink(path)
-                                          or not os.path.isfile(path)):
-                raise InputError(f"{path}: not a figure this suite drew ({FIGURES_LIST} does not list it); "
-                                 "move it away to draw the figure")
+        self.parents, self.fds, self.listed, self.before = {}, {}, {}, {}
         self.temporaries, self.made, self.lists = {}, [], {}
         FigureFiles.pending.append(self)
+        try:
+            for out in self.folders:
+                self.parents[out] = open_folder(os.path.dirname(out) or ".")
+                self.fds[out] = self.open_folder(out)
+                self.listed[out], self.before[out] = (figures_listed(self.fds[out], out) if self.fds[out] is not None
+                                                      else (None, None))
+            for path in self.paths:
+                out, name = os.path.split(path)
+                mode = lstat_mode(name, self.fds[out]) if self.fds[out] is not None else None
+                if mode is not None and stat.S_ISLNK(mode):
+                    raise InputError(f"{shown(path)} is a symbolic link: the suite does not write through one; "
+                                     "move it away to draw the figure")
+                if mode is not None and (name not in (self.listed[out] or set()) or not stat.S_ISREG(mode)):
+                    raise InputError(f"{shown(path)}: not a figure this suite drew ({FIGURES_LIST} does not list it); "
+                                     "move it away to draw the figure")
+        except BaseException:
+            self.abort()
+            raise
 
-    def temporary(self, path):
-        """The temporary file to write the figure `path` to (its folder made if needed)."""
-        out = os.path.dirname(path)
+    def open_folder(self, out):
+        """The descriptor of the figures/ folder `out` (in its open parent), None when there is
+        none; InputError when it is a symbolic link or not a folder."""
+        try:
+            return os.open(os.path.basename(out), FOLDER | os.O_NOFOLLOW, dir_fd=self.parents[out])
+        except FileNotFoundError:
+            return None
+        except OSError:
+            if is_link(os.path.basename(out), self.parents[out]):
+                raise InputError(f"{shown(out)} is a symbolic link: the suite does not write through one; remove it "
+                                 "(the figures then go into a folder of the run)") from None
+            raise InputError(f"{shown(out)} is not a folder: the figures cannot go there") from None
+
+    def open(self, path):
+        """A new binary file (a temporary of its figures/, made if needed) to write the figure
+        `path` into; commit() puts it into place."""
+        out, name = os.path.split(path)
         if path not in self.paths:
             raise ValueError(f"{path}: not among the figures announced")
-        if not os.path.isdir(out):
-            os.mkdir(out)
+        if self.fds[out] is None:
+            os.mkdir(os.path.basename(out), dir_fd=self.parents[out])
             self.made.append(out)
-        stem, ext = os.path.splitext(os.path.basename(path))
-        self.temporaries[path] = os.path.join(out, f".{stem}.tmp.{os.getpid()}{ext}")
-        return self.temporaries[path]
+            self.fds[out] = self.open_folder(out)
+        stem, ext = os.path.splitext(name)
+        temporary = f".{stem}.tmp.{os.getpid()}{ext}"
+        fd = os.open(temporary, NEW_FILE, 0o666, dir_fd=self.fds[out])
+        self.temporaries[path] = temporary
+        return os.fdopen(fd, "wb")
 
     def save(self, fig, path, tight_layout=True):
-        """Write the matplotlib figure to the temporary of path, close it; return path."""
+        """Write the matplotlib figure to a new file for path (open), close it; return path."""
         import matplotlib.pyplot as plt
-        temporary = self.temporary(path)
         if tight_layout:
             fig.tight_layout()
-        fig.savefig(temporary, format=os.path.splitext(path)[1][1:])
+        with self.open(path) as f:
+            fig.savefig(f, format=os.path.splitext(path)[1][1:])
         plt.close(fig)
         return path
 
@@ -1176,53 +1337,93 @@ class FigureFiles:
         """Name every figure written in its folder's figures.list, then put them into place."""
         for out in self.folders:
             names = {os.path.basename(path) for path in self.temporaries if os.path.dirname(path) == out}
-            if not names:
-                continue
-            listed = os.path.join(out, FIGURES_LIST)
-            before = None
-            if os.path.isfile(listed):
-                with open(listed, "rb") as f:
-                    before = f.read()
-            with open(listed, "w") as f:
-                self.lists[out] = before
-                f.write("\n".join([FIGURES_SIGNATURE] + sorted((self.listed[out] or set()) | names)) + "\n")
+            if names:
+                self.lists[out] = self.before[out]
+                text = "\n".join([FIGURES_SIGNATURE] + sorted((self.listed[out] or set()) | names)) + "\n"
+                replace_in(self.fds[out], FIGURES_LIST, text.encode())
         for path, temporary in list(self.temporaries.items()):
-            os.replace(temporary, path)
+            folder = self.fds[os.path.dirname(path)]
+            os.replace(temporary, os.path.basename(path), src_dir_fd=folder, dst_dir_fd=folder)
             del self.temporaries[path]
         FigureFiles.pending.remove(self)
+        self.close()
 
     def abort(self):
         """Remove what this drawing wrote; leave the folders as they were (as far as the
         system lets it: a step that fails does not keep the others from being done)."""
         if self in FigureFiles.pending:
             FigureFiles.pending.remove(self)
-        steps = [functools.partial(os.remove, temporary) for temporary in self.temporaries.values()]
+        steps = [functools.partial(os.remove, temporary, dir_fd=self.fds[os.path.dirname(path)])
+                 for path, temporary in self.temporaries.items()]
         for out, before in self.lists.items():
-            steps.append(functools.partial(restore, os.path.join(out, FIGURES_LIST), before))
-        steps += [functools.partial(os.rmdir, out) for out in reversed(self.made)]
+            steps.append(functools.partial(replace_in, self.fds[out], FIGURES_LIST, before))
+        steps += [functools.partial(os.rmdir, os.path.basename(out), dir_fd=self.parents[out]) for out in reversed(self.made)]
         for step in steps:
             try:
                 step()
             except OSError:         # gone already, or a figures/ that is not empty
                 pass
+        self.close()
+
+    def close(self):
+        for fd in list(self.fds.values()) + list(self.parents.values()):
+            if fd is not None:
+                os.close(fd)
+        self.fds, self.parents = dict.fromkeys(self.fds), {}
 
 
-def restore(path, before):
-    """Put back a file's former bytes, or remove it if it did not exist (before None)."""
-    if before is None:
-        os.remove(path)
-    else:
-        with open(path, "wb") as f:
-            f.write(before)
+def replace_in(folder, name, data):
+    """Make `name` in the folder of descriptor `folder` hold the bytes data (remove it when
+    data is None), through a new temporary renamed onto it: a link there is replaced, never
+    written through."""
+    if data is None:
+        os.remove(name, dir_fd=folder)
+        return
+    temporary = f".{name}.tmp.{os.getpid()}"
+    with os.fdopen(os.open(temporary, NEW_FILE, 0o666, dir_fd=folder), "wb") as f:
+        try:
+            f.write(data)
+        except BaseException:
+            os.remove(temporary, dir_fd=folder)
+            raise
+    os.replace(temporary, name, src_dir_fd=folder, dst_dir_fd=folder)
+
+
+@contextlib.contextmanager
+def new_file(path):
+    """A binary file to write `path` with, never through a symbolic link: its folder opened by
+    open_folder (made if needed), a new temporary there (O_EXCL, O_NOFOLLOW), renamed onto
+    path when the block ends without an error, removed otherwise. InputError when path is a
+    symbolic link."""
+    folder, name = os.path.split(path)
+    fd, temporary = open_folder(folder or ".", make=True), None
+    try:
+        mode = lstat_mode(name, fd)
+        if mode is not None and stat.S_ISLNK(mode):
+            raise InputError(f"{shown(path)} is a symbolic link: the suite does not write through one; remove it")
+        file = os.open(f".{name}.tmp.{os.getpid()}", NEW_FILE, 0o666, dir_fd=fd)
+        temporary = f".{name}.tmp.{os.getpid()}"
+        with os.fdopen(file, "wb") as f:
+            yield f
+        os.replace(temporary, name, src_dir_fd=fd, dst_dir_fd=fd)
+        temporary = None
+    finally:
+        if temporary is not None:
+            try:
+                os.remove(temporary, dir_fd=fd)
+            except OSError:
+                pass
+        os.close(fd)
 
 
 def save(fig, out, name, tight_layout=True):
-    """Write the figure to OUT/NAME.png (OUT made if needed), close it, return the path."""
+    """Write the figure to OUT/NAME.png (OUT made if needed; new_file: never through a
+    symbolic link), close it, return the path."""
     import matplotlib.pyplot as plt
-    os.makedirs(out, exist_ok=True)
     path = os.path.join(out, name + ".png")
     if tight_layout:
         fig.tight_layout()
-    fig.savefig(path)
+    with new_file(path) as f:
+        fig.savefig(f, format="png")
     plt.close(fig)
     return path

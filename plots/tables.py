@@ -24,7 +24,9 @@ columns; floats are written with repr (full precision), rows in a fixed order.
 DIR is the results folder of ./run.sh: paper-original, paper-penalty (required),
 choices/* and eps-study/eps-* (whatever is there). Exits 1 with a message when a
 required file is missing or the meshes of the compared runs differ, and refuses 3D runs
-(tests/check_results.py --compare reads those).
+(tests/check_results.py --compare reads those); exits 2 at once on a name that is not UTF-8
+(or holds a control character) and on a --results folder that is a symbolic link (the tables
+are never written through one).
 """
 import argparse
 import math
@@ -250,21 +252,23 @@ def eps_study_table(results):
 
 
 def main():
+    suite.check_arguments("tables.py")                  # a name not in UTF-8: refused before anything
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     mode = parser.add_mutually_exclusive_group(required=True)
     mode.add_argument("--results", help="the results folder of ./run.sh")
     mode.add_argument("--compare", nargs="+", metavar="FOLDER", help="REF RUN [RUN ...]: run folders")
     mode.add_argument("--successive", nargs="+", metavar="FOLDER", help="RUN1 RUN2 [RUN3 ...]: run folders")
     args = parser.parse_args()
+    suite.check_outputs("tables.py", [args.results])    # not written through a symbolic link
     folders = args.compare or args.successive
     if folders:
         if len(folders) < 2:
             fail("--compare and --successive need at least two run folders")
         for folder in folders:
             if not os.path.isfile(os.path.join(folder, "contact.txt")):
-                fail(f"no run in {folder}")
+                fail(f"no run in {suite.shown(folder)}")
             if suite.read_summary(folder).get("dimension", "2") == "3":
-                fail(f"{folder} is a 3D run: tables.py compares 2D runs (triangles, v_x v_y); compare 3D runs "
+                fail(f"{suite.shown(folder)} is a 3D run: tables.py compares 2D runs (triangles, v_x v_y); compare 3D runs "
                      "with PYTHONPATH=plots /usr/bin/python3 tests/check_results.py RUN --compare REF --rtol R, "
                      "which reads every column (v_tau2, v_z) and prints them with --rtol 0")
         if args.compare:
@@ -277,7 +281,7 @@ def main():
             print_comparison(rows, orders)
         return
     if not os.path.isdir(args.results):
-        fail(f"no folder {args.results}")
+        fail(f"no folder {suite.shown(args.results)}")
     zones_table(args.results)
     eps_study_table(args.results)
     choices_table(args.results)

@@ -17,9 +17,7 @@ here="$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)"
 # Debian's python3-matplotlib is installed for /usr/bin/python3 only: use it everywhere.
 PYTHON=/usr/bin/python3
 PACKAGES=(freefem++ libfreefem++ gmsh numdiff python3 python3-numpy python3-matplotlib python3-vtk9 libopenblas0-pthread time
-          g++ libfreefem++-dev libsuitesparse-dev liblapack-dev libblas-dev python3-petsc4py-real openmpi-bin)
-# Debian's petsc4py finds PETSc through PETSC_DIR (tests/petsc_step.py, the prototype of the PETSc route)
-export PETSC_DIR="${PETSC_DIR:-/usr/lib/petscdir/petsc3.18/x86_64-linux-gnu-real}"
+          g++ libfreefem++-dev libsuitesparse-dev liblapack-dev libblas-dev)
 
 missing_dependencies() { # missing_dependencies [solve]: "solve" skips what only tests and plots need
   command -v FreeFem++-nw >/dev/null 2>&1 || return 0
@@ -31,7 +29,6 @@ missing_dependencies() { # missing_dependencies [solve]: "solve" skips what only
   "$PYTHON" -c 'import numpy, matplotlib, vtk' >/dev/null 2>&1 || return 0   # vtk: the tests read -vtk output back
   [ -e /usr/lib/x86_64-linux-gnu/openblas-pthread/libblas.so.3 ] || [ ! -d /usr/lib/x86_64-linux-gnu ] || return 0
   [ -x /usr/bin/time ] || return 0
-  "$PYTHON" -c 'import petsc4py' >/dev/null 2>&1 && command -v mpirun >/dev/null 2>&1 || return 0   # the PETSc route's test
   return 1
 }
 
@@ -107,6 +104,22 @@ FREEFEM=(FreeFem++-nw -ns -v 0)
 
 solve() { "${FREEFEM[@]}" "$here/edp/solve.edp" "$@"; }
 
+# FreeFem++ reads an argument that starts with '-' or 'D' and has its first '=' after its fourth
+# character as a macro definition, wherever it stands: a value of the user's (a file named
+# "-DNAME=...") would change the script. Refused here before FreeFEM starts (and again by
+# edp/plugins/runtools.cpp, for FreeFem++ started by hand).
+refuse_macros() {
+  local a before
+  for a in "$@"; do
+    case "$a" in -*=*|D*=*) ;; *) continue ;; esac
+    before="${a%%=*}"
+    if [ "${#before}" -gt 3 ]; then
+      echo "error: the argument '${a:0:80}$([ "${#a}" -gt 80 ] && echo ...)' would be read by FreeFem++ as a macro definition (an argument that starts with '-' or 'D' and has an '=' after its fourth character, wherever it stands), which could change the script: the suite refuses it" >&2
+      exit 2
+    fi
+  done
+}
+
 # The main job runs each solve as a child and waits for it, so that a signal to run.sh reaches
 # the solve too (it then removes its unfinished folder) before run.sh stops.
 child=""
@@ -173,7 +186,7 @@ case "$command" in
   main)
     trap 'forward_signal 15' TERM; trap 'forward_signal 2' INT; trap 'forward_signal 1' HUP
     ensure_dependencies; main_job ;;
-  solve) ensure_dependencies solve; exec "${FREEFEM[@]}" "$here/edp/solve.edp" "$@" ;;   # a signal reaches the solve
+  solve) refuse_macros "$@"; ensure_dependencies solve; exec "${FREEFEM[@]}" "$here/edp/solve.edp" "$@" ;;   # a signal reaches the solve
   test) ensure_dependencies; exec bash "$here/tests/run_tests.sh" "$@" ;;
   bench) ensure_dependencies; exec bash "$here/tests/bench.sh" "$@" ;;
   stability) ensure_dependencies; exec bash "$here/tests/stability.sh" "$@" ;;

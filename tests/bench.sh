@@ -131,11 +131,11 @@ for dir in "$out"/runs/wp-* "$out/runs/check-adapted"; do
   [ -f "$dir/summary.txt" ] || continue
   against="$refdir"
   case "$dir" in */wp-dt-*) against="$out/runs/timeref-66x33-dt0.00125" ;; esac
-  FreeFem++-nw -ns -v 0 edp/compare.edp -a "$dir" -ref "$against" > "$dir.error" 2> /dev/null || true
+  FreeFem++-nw -ns -v 0 edp/compare.edp -a "$dir" -ref "$against" > "$dir.error" 2> "$dir.error.log" || true   # a refusal says why in .error.log
 done
 for dir in "$out"/runs/wp-tol-*; do
   [ -f "$dir/summary.txt" ] || continue
-  FreeFem++-nw -ns -v 0 edp/compare.edp -a "$dir" -ref "$out/runs/tight-66x33" > "$dir.solver_error" 2> /dev/null || true
+  FreeFem++-nw -ns -v 0 edp/compare.edp -a "$dir" -ref "$out/runs/tight-66x33" > "$dir.solver_error" 2> "$dir.solver_error.log" || true
 done
 
 "$PYTHON" plots/bench.py --bench "$out" --reference "$refdir"

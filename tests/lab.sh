@@ -129,10 +129,23 @@ for run in paper eps/penalty-1e-2 eps/penalty-1e-3 eps/penalty-1e-4 eps/penalty-
 done
 keys paper iterations_total=38
 keys eps/literal-1e-4 iterations_total=39 zone_damped_slip=7 zone_bound_slip=14 zone_bound_stick=11
-keys eps/literal-1e-8 iterations_total=58 newton_fallbacks=21 zone_damped_slip=7 zone_bound_slip=14 zone_bound_stick=11
+keys eps/literal-1e-8 zone_damped_slip=7 zone_bound_slip=14 zone_bound_stick=11
 keys eps/penalty-1e-8 iterations_total=38 newton_fallbacks=1
+# the counts of the literal row are decided by round-off: the sheet states only that they
+# exceed the compliant row's, and by a dozen or more fallbacks
+more() { # more RUN KEY THAN: KEY of RUN/summary.txt is above THAN
+  local n; n="$(key "$1" "$2")"
+  [ -n "$n" ] && [ "$n" -gt "$3" ] || problem "$2 above $3 for \$LAB/$1 (it has '$n')"
+}
+more eps/literal-1e-8 iterations_total 38
+more eps/literal-1e-8 newton_fallbacks 11
 [ ! -e "$LAB/eps/literal-1e-8-off" ] || problem "the literal row at eps = 1e-8 without the safeguard fails and writes nothing"
-said "error: step 7 (t = 0.35): the contact solver did not converge after 50 iterations (iteration cap reached), residual 7.76151e-10"
+# residual R: between 1e-10 (the tolerance it failed) and 1e-8; its digits are round-off's
+awk '/^error: step [0-9]+ \(t = [0-9.]+\): the contact solver did not converge after 50 iterations \(iteration cap reached\), residual / {
+       r = $0; sub(/.*residual /, "", r); sub(/ .*/, "", r); if (r + 0 > 1e-10 && r + 0 < 1e-8) found = 1 }
+     END { exit !found }' "$log" \
+  || problem "without the safeguard the literal row stops with 'did not converge after 50 iterations (iteration cap reached), residual R', R between 1e-10 and 1e-8"
+said "exit status 4"
 # 3. Newton against the fixed point
 [ "$(awk '!/^#/ { printf "%s ", $3 }' "$LAB/solvers/newton/history.txt" 2>/dev/null)" = "2 2 " ] || problem "Newton takes 2 then 2 iterations"
 [ "$(awk '!/^#/ { printf "%s ", $3 }' "$LAB/solvers/fixedpoint/history.txt" 2>/dev/null)" = "15 15 " ] || problem "the fixed point takes 15 and 15 iterations"
@@ -141,18 +154,32 @@ awk 'NF == 9 && $1 ~ /\/solvers\/fixedpoint-T1/ { n++; if (!($8 + 0 < 1e-11)) ba
   || problem "the fixed point agrees with Newton to about 1e-12"
 said "  iteration 0 (the previous step's multipliers, this step's load): residual 1.024e-01; slots: damped 32, stick 9, slip 22"
 said "  iteration 1: residual 5.739e-02 (the Newton iterate did not lower the merit: one fixed-point iteration instead); changed: stick +16, slip -16"
-said "  iteration 2: residual 6.344e-17; changed: none"
+# said_small PREFIX SUFFIX BOUND: a line PREFIX R SUFFIX with R below BOUND (a residual at round-off)
+said_small() {
+  awk -v prefix="$1" -v suffix="$2" -v bound="$3" '
+    index($0, prefix) == 1 && substr($0, length($0) - length(suffix) + 1) == suffix {
+      r = substr($0, length(prefix) + 1, length($0) - length(prefix) - length(suffix)); if (r + 0 < bound + 0) found = 1 }
+    END { exit !found }' "$log" || problem "the output shows '$1R$2' with R below $3"
+}
+said_small "  iteration 2: residual " "; changed: none" 1e-14
 said "  iteration 0 (the previous step's multipliers, this step's load): residual 4.485e-01; slots: damped 15, bound 17, stick 16, slip 15"
 said "  iteration 2: residual 1.018e-02; changed: damped +1, bound -1"
 said "step 6/8 (t = 0.3): 3 iterations"
 said "  iteration 2: residual 5.218e-04; changed: none"
 said "  iteration 3: residual 1.199e-07; changed: none"
-said "  iteration 4: residual 1.683e-14; changed: none"
+said_small "  iteration 4: residual " "; changed: none" 1e-12
 # 4. the exercises
-for tol in 1e-6 1e-10 1e-12; do keys "ex1/linear-tol$tol" iterations_total=38 newton_factorizations=3 newton_low_rank_corrections=16; done
-keys ex1/power-tol1e-6 iterations_total=53 newton_factorizations=50
-keys ex1/power-tol1e-10 iterations_total=66 newton_factorizations=66
-keys ex1/power-tol1e-12 iterations_total=69 newton_factorizations=69
+# factorization counts are decided by round-off: "a few" for the paper's law, "within a few
+# of the iterations" for the power law (at most 5 less)
+for tol in 1e-6 1e-10 1e-12; do
+  keys "ex1/linear-tol$tol" iterations_total=38
+  n="$(key "ex1/linear-tol$tol" newton_factorizations)"; [ -n "$n" ] && [ "$n" -ge 1 ] && [ "$n" -le 5 ] || problem "a few factorizations (1 to 5) for \$LAB/ex1/linear-tol$tol (it has '$n')"
+done
+for pair in 1e-6=53 1e-10=66 1e-12=69; do
+  run="ex1/power-tol${pair%=*}"; keys "$run" iterations_total="${pair#*=}"
+  n="$(key "$run" newton_factorizations)"; [ -n "$n" ] && [ "$n" -ge $(( ${pair#*=} - 5 )) ] && [ "$n" -le "${pair#*=}" ] \
+    || problem "newton_factorizations within a few of the ${pair#*=} iterations for \$LAB/$run (it has '$n')"
+done
 zones ex2/load-2.5 1 17 15 0 0
 zones ex2/load-10 1 7 0 14 11
 zones ex2/load-40 1 3 0 27 2

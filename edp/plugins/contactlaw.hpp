@@ -50,9 +50,14 @@ inline double tableSlope(const Parameters &P, double r) {
   const int k = tableSegment(P, r);
   return (P.tableP[k + 1] - P.tableP[k]) / (P.tableR[k + 1] - P.tableR[k]);
 }
+// Between two points, a weighted mean of their values, kept between them (p_k + slope (r - r_k)
+// could round outside); past the last point, its slope.
 inline double tableValue(const Parameters &P, double r) {
   const int k = tableSegment(P, r);
-  return P.tableP[k] + tableSlope(P, r) * (r - P.tableR[k]);
+  const double r0 = P.tableR[k], r1 = P.tableR[k + 1], p0 = P.tableP[k], p1 = P.tableP[k + 1];
+  if (r > r1) return p1 + tableSlope(P, r) * (r - r1);
+  const double s = (r - r0) / (r1 - r0);
+  return std::min(std::max((1 - s) * p0 + s * p1, std::min(p0, p1)), std::max(p0, p1));
 }
 
 // p(r), the normal damped response (2.17); the paper's is p(r) = c_nu r_+ (section 5).

@@ -26,6 +26,8 @@
 //   runByteOrderMark(string path)        3 if the file starts with a UTF-8 byte order mark, else 0
 //   runOnlyCarriageReturns(string path)  1 if a text file has CR line ends only
 //   runControlCharacter(string text)     1 if text holds a control character or a line separator
+//   runNotUtf8(string text)              1 if text is not valid UTF-8
+//   runEnvironmentSeconds(string name)   the seconds an environment variable gives, -1 if unset
 //   runFolderOpen(string out)            lock OUT, check it may be replaced, make OUT.partial.<pid>
 //   runFileComplete(string path, int lines)   the file has exactly that many complete lines,
 //       and is on the disk (fsync); exit 7 otherwise (a full disk, an I/O error)
@@ -39,7 +41,7 @@
 //       -setnumber NAME VALUE ... geo -o out; its exit status (127: no gmsh)
 //   runCheckMesh(string in, string out, string required, string dirichlet, string what,
 //       int fatal)   check a gmsh MSH 2.2 file before FreeFEM reads it (see checkMesh below)
-//       and write it to out, clockwise triangles reoriented; on a problem: exit 3 with
+//       and write it to out (unless out is ""), clockwise triangles reoriented; on a problem: exit 3 with
 //       "what: why" (fatal), or return 1; exit 7 if out cannot be written
 //   runMeshExtentRatio()                 1e8: the largest extent / shortest edge a mesh may have
 //   runMeshDimension(string path)        3 if a mesh file has tetrahedra, 2 if not, 0 if unreadable
@@ -52,6 +54,7 @@
 #include <array>
 #include <cerrno>
 #include <cfloat>
+#include <climits>
 #include <chrono>
 #include <cmath>
 #include <csignal>
@@ -202,10 +205,56 @@ void toStderr(const std::string &text) {
   std::fflush(stderr);
 }
 
+// the length of the UTF-8 sequence that starts at s[i] (1 to 4 bytes), or 0 if the bytes there
+// are not one (a stray continuation byte, an overlong form, a surrogate, beyond U+10FFFF)
+size_t utf8Length(const std::string &s, size_t i) {
+  const unsigned char c = s[i];
+  if (c < 0x80) return 1;
+  const size_t n = c >= 0xC2 && c <= 0xDF ? 2 : (c >= 0xE0 && c <= 0xEF ? 3 : (c >= 0xF0 && c <= 0xF4 ? 4 : 0));
+  if (n == 0 || i + n > s.size()) return 0;
+  for (size_t k = 1; k < n; k++) if (((unsigned char)s[i + k] & 0xC0) != 0x80) return 0;
+  const unsigned char second = s[i + 1];
+  if ((c == 0xE0 && second < 0xA0) || (c == 0xED && second > 0x9F) || (c == 0xF0 && second < 0x90) || (c == 0xF4 && second > 0x8F))
+    return 0;
+  return n;
+}
+bool validUtf8(const std::string &s) {
+  for (size_t i = 0; i < s.size();) { const size_t n = utf8Length(s, i); if (n == 0) return false; i += n; }
+  return true;
+}
+
+// A message as it may be shown on a terminal: bytes that are not UTF-8 and control characters
+// (but line ends) as \xHH, and a word (a run without spaces: a value, a path) longer than
+// longWord bytes cut in its middle, with its length, so that a megabyte value is not echoed.
+const size_t longWord = 160;
+std::string shown(const std::string &text) {
+  std::string out, word;
+  auto flush = [&]() {
+    if (word.size() > longWord) {
+      size_t head = 100, tail = 40;
+      while (head > 0 && ((unsigned char)word[head] & 0xC0) == 0x80) head--;   // cut between characters
+      while (tail > 0 && ((unsigned char)word[word.size() - tail] & 0xC0) == 0x80) tail--;
+      word = word.substr(0, head) + "...(" + std::to_string(word.size()) + " bytes)..." + word.substr(word.size() - tail);
+    }
+    out += word; word.clear();
+  };
+  for (size_t i = 0; i < text.size();) {
+    const unsigned char c = text[i];
+    const size_t n = utf8Length(text, i);
+    if (c == ' ' || c == '\n') { flush(); out += (char)c; i++; continue; }
+    if (n == 0 || c < 0x20 || c == 0x7F) {
+      char hex[8]; std::snprintf(hex, sizeof hex, "\\x%02X", (unsigned)c); word += hex; i++; continue;
+    }
+    word += text.substr(i, n); i += n;
+  }
+  flush();
+  return out;
+}
+
 [[noreturn]] void fail(int code, const std::string &message) {
   std::cout.flush();
   cleanUp();
-  if (!message.empty()) toStderr("error: " + message + "\n");
+  if (!message.empty()) toStderr("error: " + shown(message) + "\n");
   std::fflush(nullptr);
   std::_Exit(code);
 }
@@ -213,9 +262,23 @@ void toStderr(const std::string &text) {
 long runError(const long &code, string *const &message) { fail((int)code, *message); }
 // one line on the standard error (progress, the Newton log), unbuffered
 long runNote(string *const &message) {
-  toStderr(*message + "\n");
+  toStderr(shown(*message) + "\n");
   return 0;
 }
+// the number of seconds an environment variable gives (a number >= 0), or -1 when it is not set;
+// any other value: exit 2 naming it
+double runEnvironmentSeconds(string *const &name) {
+  const char *text = std::getenv(name->c_str());
+  if (!text) return -1;
+  char *end = nullptr;
+  const double value = std::strtod(text, &end);
+  if (!*text || *end || !std::isfinite(value) || value < 0)
+    fail(2, "the environment variable " + *name + " = '" + text + "' is not a number of seconds >= 0");
+  return value;
+}
+// 1 if a text is not valid UTF-8 (a file or folder name that the suite's own tools could not
+// read back, nor show)
+long runNotUtf8(string *const &text) { return validUtf8(*text) ? 0 : 1; }
 
 double runWallClock() {
   return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
@@ -455,6 +518,15 @@ long runFolderOpen(string *const &outText) {
   if (out == "/" || base == "." || base == ".." || base.empty() || out[0] == '-')
     fail(2, "option -out = '" + *outText + "' is not a usable folder name (give a new or results folder, e.g. results/run)");
   if (hasControlCharacter(out)) fail(2, "option -out holds a control character or a line separator: give a plain folder name");
+  if (!validUtf8(out)) fail(2, "option -out = '" + out + "' is not valid UTF-8: give a folder name the suite's tools can read back");
+  // the longest path the run writes, OUT.partial.<pid>/vtk/fields_NNNNNN.vtu, within the system's limits
+  const size_t longestInside = std::strlen("/vtk/fields_000000.vtu"), suffix = std::strlen(".partial.") + 10;
+  if (out.size() + suffix + longestInside >= PATH_MAX)
+    fail(2, "option -out is " + std::to_string(out.size()) + " bytes long: the run's files under it would pass the system's limit of "
+            + std::to_string(PATH_MAX - 1) + " bytes a path; give a folder of at most " + std::to_string(PATH_MAX - 1 - suffix - longestInside) + " bytes");
+  if (base.size() + suffix > NAME_MAX)
+    fail(2, "option -out: its last part is " + std::to_string(base.size()) + " bytes long; with the run's '.partial.<pid>' it would pass the "
+            + "system's limit of " + std::to_string(NAME_MAX) + " bytes a name; give at most " + std::to_string(NAME_MAX - suffix));
   struct stat status;
   if (lstat(out.c_str(), &status) == 0 && S_ISLNK(status.st_mode))
     fail(7, "option -out = '" + out + "' is a symbolic link: give the folder itself (the suite replaces OUT whole)");
@@ -753,6 +825,7 @@ struct Element { long id; int type; std::vector<long> tags, nodes; };
 std::string numberText(double x) { char b[32]; std::snprintf(b, sizeof b, "%g", x); return b; }
 
 const double maxExtentRatio = 1e8;                 // extent / shortest edge (see checkMesh)
+const double maxCoordinate = 1e100;                // |x|, |y|, |z| of a node (see readNode)
 
 // disjoint sets of triangles (union-find, with path halving)
 struct Pieces {
@@ -898,6 +971,10 @@ void readNode(const std::string &text, std::map<long, long> &index, long &id, do
   if (!(in >> id >> x >> y >> z) || (in >> rest)) throw MeshProblem{"$Nodes: cannot read the node line '" + text + "'"};
   if (id > 2147483647L || id < -2147483647L) throw MeshProblem{"node id " + std::to_string(id) + " does not fit FreeFEM's 32-bit ids"};
   if (!std::isfinite(x) || !std::isfinite(y) || !std::isfinite(z)) throw MeshProblem{"node " + std::to_string(id) + " has a non-finite coordinate"};
+  const double largest = std::max(std::fabs(x), std::max(std::fabs(y), std::fabs(z)));
+  if (largest > maxCoordinate)                       // lengths squared and cubed (areas, volumes) must stay finite
+    throw MeshProblem{"node " + std::to_string(id) + " has the coordinate " + numberText(largest) + ", beyond " + numberText(maxCoordinate) +
+                      ", where areas and volumes overflow: give the lengths in other units"};
   if (index.count(id)) throw MeshProblem{"node " + std::to_string(id) + " is defined twice"};
 }
 
@@ -940,6 +1017,7 @@ void requireLabels(const std::set<long> &labels, const std::string &required, co
 // the mesh FreeFEM will read: the nodes (ids, x y z) and the groups of elements, on the disk
 void writeCheckedMesh(const std::string &outPath, const std::vector<long> &idOf, const std::vector<std::array<double, 3>> &xyz,
                       std::initializer_list<std::vector<Element> *> groups) {
+  if (outPath.empty()) return;                       // a check only (compare.edp reads a run's own mesh)
   size_t elements = 0;
   for (auto *group : groups) elements += group->size();
   std::ofstream o(outPath, std::ios::binary | std::ios::trunc);
@@ -1339,6 +1417,57 @@ long runGeoDimension(string *const &path) {
 // Start this FreeFEM program again, in this process (execv), with the same arguments and one
 // more (solve.edp: -Ddimension=3, which FreeFEM's lexer reads as a macro definition, for a 3D
 // scene); returns only if that fails (1)
+const char *restartVariable = "CONTACT_SUITE_RESTART";
+
+// FreeFem++ reads two kinds of arguments wherever they stand on its command line, before any
+// script runs: its own options (-v N, -jc, -cd, ...: its getprog), and macro definitions (its
+// lexer: an argument that starts with '-' or 'D' and whose first '=' comes after its fourth
+// character defines the macro named by its characters from the third to that '='; so
+// "-DexportSystem=..." but also "Dxcout=..."). An option value of the user's that reads like
+// one (a file named "-DNAME=...") would change the script or become FreeFEM code. So every
+// such argument is refused (exit 2) when this plugin is loaded, which a script does on its first
+// line, before any code of it runs; the one exception is the suite's own restart
+// (runRestartWith), marked by CONTACT_SUITE_RESTART = this process's id.
+bool freefemMacro(const std::string &a) {
+  if (a.empty() || (a[0] != '-' && a[0] != 'D')) return false;
+  const size_t equal = a.find('=');
+  return equal != std::string::npos && equal > 3;
+}
+bool freefemOption(const std::string &a, bool &takesValue) {
+  static const std::set<std::string> withValue = {"-v", "-f", "-fglut", "-glut", "-gff", "-check_plugin"};
+  static const std::set<std::string> alone = {"-nw", "-ng", "-wg", "-md", "-ne", "-cd", "-cdtmp", "-jc", "-ns", "-nowait",
+                                              "-nc", "-log", "-wait", "-?"};
+  takesValue = withValue.count(a) > 0;
+  return takesValue || alone.count(a) > 0;
+}
+void checkCommandLine() {
+  std::ifstream f("/proc/self/cmdline", std::ios::binary);
+  std::vector<std::string> args;
+  std::string arg;
+  while (std::getline(f, arg, '\0')) args.push_back(arg);
+  const char *marker = std::getenv(restartVariable);
+  const bool restarted = marker && std::string(marker) == std::to_string(getpid());
+  unsetenv(restartVariable);                         // not for the processes this run starts
+  size_t script = 0;                                 // the script: FreeFEM's first argument that is not its option
+  for (size_t i = 1; i < args.size() && script == 0; i++) {
+    bool takesValue = false;
+    if (freefemOption(args[i], takesValue)) i += takesValue;
+    else if (!freefemMacro(args[i])) script = i;
+  }
+  for (size_t i = 1; i < args.size(); i++) {
+    const std::string &a = args[i];
+    bool takesValue = false;
+    if (restarted && i + 1 == args.size() && a == "-Ddimension=3") continue;
+    if (freefemMacro(a))
+      fail(2, "the argument '" + a + "' would be read by FreeFem++ as a macro definition (an argument that starts with '-' or 'D' "
+              + "and has an '=' after its fourth character, wherever it stands), which could change the script: the suite refuses it"
+              + (i > script && script > 0 && i > 1 && args[i - 1][0] == '-' ? " (as the value of " + args[i - 1] + ": rename that file or folder)" : ""));
+    if (script > 0 && i > script && freefemOption(a, takesValue))
+      fail(2, "the argument '" + a + "' is an option of FreeFem++ itself, which it reads wherever it stands: give it before the "
+              + "script, or, as a value of an option of the suite, rename that file or folder");
+  }
+}
+
 long runRestartWith(string *const &extra) {
   std::ifstream f("/proc/self/cmdline", std::ios::binary);
   std::vector<std::string> args;
@@ -1346,6 +1475,7 @@ long runRestartWith(string *const &extra) {
   while (std::getline(f, arg, '\0')) args.push_back(arg);
   if (args.empty()) return 1;
   args.push_back(*extra);
+  setenv(restartVariable, std::to_string(getpid()).c_str(), 1);   // this argument is the suite's own (checkCommandLine)
   std::vector<char *> argv;
   for (auto &a : args) argv.push_back(const_cast<char *>(a.c_str()));
   argv.push_back(nullptr);
@@ -1372,8 +1502,19 @@ long runCheckMesh(string *const &in, string *const &out, string *const &required
 
 }  // namespace
 
+// FreeFEM's own errors (a failed assert, an error raised by a FreeFEM function or a plugin) end
+// the program through exit(), with its own message: remove what the run created then, too.
+void onExit() {
+  if (!(cleanPartial || cleanOut || madeParents || haveTemporary)) return;
+  const bool removed = cleanPartial;
+  cleanUp();
+  if (removed) say("note: the run stopped on an error (above); it removed its unfinished output folder\n");
+}
+
 static void Load_Init() {
   installSignalHandlers();                          // a signal at any moment removes what the run has created so far
+  std::atexit(onExit);
+  checkCommandLine();
   Global.Add("runError", "(", new OneOperator2_<long, long, string *>(runError));
   Global.Add("runNote", "(", new OneOperator1_<long, string *>(runNote));
   Global.Add("runWallClock", "(", new OneOperator0<double>(runWallClock));
@@ -1382,6 +1523,8 @@ static void Load_Init() {
   Global.Add("runChecksum", "(", new OneOperator1_<long, string *>(runChecksum));
   Global.Add("runByteOrderMark", "(", new OneOperator1_<long, string *>(runByteOrderMark));
   Global.Add("runControlCharacter", "(", new OneOperator1_<long, string *>(runControlCharacter));
+  Global.Add("runNotUtf8", "(", new OneOperator1_<long, string *>(runNotUtf8));
+  Global.Add("runEnvironmentSeconds", "(", new OneOperator1_<double, string *>(runEnvironmentSeconds));
   Global.Add("runOnlyCarriageReturns", "(", new OneOperator1_<long, string *>(runOnlyCarriageReturns));
   Global.Add("runFolderOpen", "(", new OneOperator1_<long, string *>(runFolderOpen));
   Global.Add("runFileComplete", "(", new OneOperator2_<long, string *, long>(runFileComplete));

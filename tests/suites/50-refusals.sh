@@ -2,20 +2,6 @@
 # Sourced by tests/run_tests.sh, in the order of the file names: it uses the harness's
 # variables and functions (solve, report, work, FREEFEM, PYTHON, coarse_options, ...).
 # ---- runs that must fail: exit code, message, and no results
-# expect_failure NAME CODE REGEX OPTIONS...
-expect_failure() {
-  local name="$1" code="$2" regex="$3"; shift 3
-  local out="$work/fail-$count" diag="$work/fail.diag"
-  rm -rf "$out"
-  if printf '%s\n' "$@" | grep -qx -- -out; then solve "$@" > "$diag" 2>&1; else solve -out "$out" "$@" > "$diag" 2>&1; fi
-  local rc=$?
-  local status=0
-  if [ "$rc" != "$code" ]; then echo "exit code $rc, expected $code" >> "$diag"; status=1; fi
-  if ! grep -Eq "$regex" "$diag"; then echo "message does not match /$regex/" >> "$diag"; status=1; fi
-  if [ -e "$out" ] || compgen -G "$out.partial*" > /dev/null; then echo "results were written in $out" >> "$diag"; status=1; fi
-  report $status "refused: $name" "$diag"
-}
-coarse=(-nx 8 -ny 4 -dt 0.1)
 expect_failure "unknown option" 2 "unknown option '-foo'" -foo 1
 expect_failure "not an option" 2 "expected an option -name, got '12'" 12
 expect_failure "option without value" 2 "option -dt needs a value" -dt
@@ -34,7 +20,7 @@ expect_failure "a z value in a scene of a 2D geometry" 3 "traction with a z comp
 expect_failure "-plane for a 3D body" 2 "option -plane: plane stress or strain is a 2D model; geometry box is a 3D body" -scene column3d -plane strain
 expect_failure "-nz for a 2D body" 2 "option -nz: cells along z, for a 3D body; geometry rectangle is 2D" -nz 3
 expect_failure "-adapt for a 3D body" 2 "option -adapt: mesh adaptation is 2D only" -scene column3d -adapt 1
-expect_failure "-Ddimension=3 with a 2D scene" 3 "geometry rectangle is 2D, but the run was started with -Ddimension=3" -Ddimension=3
+expect_failure "-Ddimension=3 given by the user" 2 "the argument '-Ddimension=3' would be read by FreeFem\+\+ as a macro definition" -Ddimension=3
 expect_failure "a choice out of its list" 2 "option -plane = 'Strain' is not one of stress\|strain" -plane Strain
 expect_failure "real overflows" 2 "option -load = 1e999 is not a finite number" -load 1e999
 expect_failure "integer not whole" 2 "option -nx must be a whole number, got '1.5'" -nx 1.5

@@ -42,15 +42,20 @@ solve -scene paper -nx 16 -ny 8 -T 0.2 -dt 0.05 -verbose -out "$work/log" > /dev
   && grep -q '^  iteration 0 (the previous .*): residual .*; slots: damped 16, stick [0-9]*, slip [0-9]*$' "$work/log.err" \
   && grep -q '^  iteration 1: residual .* (the Newton iterate did not lower the merit: one fixed-point iteration instead); changed: stick +[0-9]*, slip -[0-9]*$' "$work/log.err" \
   || { echo "-verbose:" >> "$diag"; cat "$work/log.err" >> "$diag"; status=1; }
-# a run of more than 2 s shows its progress about once a second, on stderr; -quiet none
+# progress lines on stderr, forced at every step (CONTACT_PROGRESS_SECONDS=0: no wait for a
+# slow run); -quiet none; a bad value of the variable refused
 rm -rf "$work/log"
-solve -nx 132 -ny 66 -T 0.6 -dt 0.001 -out "$work/log" > "$work/log.out" 2> "$work/log.err" || status=1
-grep -q '^step [0-9]*/600 (t = .*), [0-9]* iterations*; zones: ' "$work/log.err" && ! grep -q '^step' "$work/log.out" \
-  || { echo "no progress line in a run whose loop took $(awk '$1 == "time_loop" { print $2 }' "$work/log/summary.txt") s" >> "$diag"; status=1; }
+CONTACT_PROGRESS_SECONDS=0 solve -nx 16 -ny 8 -T 0.2 -dt 0.05 -out "$work/log" > "$work/log.out" 2> "$work/log.err" || status=1
+[ "$(grep -c '^step [0-9]*/4 (t = .*), [0-9]* iterations*; zones: [0-9]* free, ' "$work/log.err")" = 4 ] && ! grep -q '^step' "$work/log.out" \
+  || { echo "not one progress line a step with CONTACT_PROGRESS_SECONDS=0:" >> "$diag"; cat "$work/log.err" >> "$diag"; status=1; }
 rm -rf "$work/log"
-solve -nx 132 -ny 66 -T 0.6 -dt 0.001 -quiet -out "$work/log" > /dev/null 2> "$work/log.err" || status=1
+CONTACT_PROGRESS_SECONDS=0 solve -nx 16 -ny 8 -T 0.2 -dt 0.05 -quiet -out "$work/log" > /dev/null 2> "$work/log.err" || status=1
 [ ! -s "$work/log.err" ] || { echo "-quiet printed:" >> "$diag"; head -3 "$work/log.err" >> "$diag"; status=1; }
-report $status "-verbose logs each Newton iteration and step; a long run shows progress on stderr, -quiet silences it" "$diag"
+rm -rf "$work/log"
+rc=0; CONTACT_PROGRESS_SECONDS=soon solve -nx 16 -ny 8 -T 0.2 -dt 0.05 -out "$work/log" > /dev/null 2> "$work/log.err" || rc=$?
+[ "$rc" = 2 ] && [ ! -e "$work/log" ] && grep -q "^error: the environment variable CONTACT_PROGRESS_SECONDS = 'soon' is not a number of seconds >= 0" "$work/log.err" \
+  || { echo "CONTACT_PROGRESS_SECONDS=soon: exit $rc" >> "$diag"; cat "$work/log.err" >> "$diag"; status=1; }
+report $status "-verbose logs each Newton iteration and step; progress lines on stderr (forced by CONTACT_PROGRESS_SECONDS=0), -quiet silences them" "$diag"
 grep -v '^#' edp/scenes/column.scene > "$work/quiet.scene"; echo "quiet on" >> "$work/quiet.scene"
 expect_failure "a flag given a value in a scene" 3 "quiet.scene:[0-9]+: 'quiet' is a flag of the command line" -scene "$work/quiet.scene"
 expect_failure "a flag given a value" 2 "option -quiet is a flag: it takes no value, got 'on'" -quiet on

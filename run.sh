@@ -4,6 +4,7 @@
 #                            the runs for the open choices, the tables and every figure
 #   ./run.sh test [--bless CASE]   the test harness (ends with "N passed, N failed")
 #   ./run.sh solve [options] one run of edp/solve.edp (options: see README.md)
+#   ./run.sh compare -a RUN -ref REF   the distance between two runs at T (edp/compare.edp)
 #   ./run.sh figures [name]  redraw figures from existing results
 #   ./run.sh figures RUN_DIR [RUN_DIR ...]   every figure of those run folders, into RUN_DIR/figures
 #   ./run.sh animate RUN_DIR the deformed body over time (a run with -vtk N) -> RUN_DIR/figures
@@ -108,13 +109,23 @@ solve() { "${FREEFEM[@]}" "$here/edp/solve.edp" "$@"; }
 # character as a macro definition, wherever it stands: a value of the user's (a file named
 # "-DNAME=...") would change the script. Refused here before FreeFEM starts (and again by
 # edp/plugins/runtools.cpp, for FreeFem++ started by hand).
-refuse_macros() {
-  local a before
+# FreeFem++ also reads its own options wherever they stand, before any script or plugin runs
+# (-f runs another script, -glut a program, -fglut truncates a file, -check_plugin loads a
+# library, ...): refused here too (runtools refuses them when it is loaded, too late for
+# those; started by hand, FreeFem++ should get the suite's options only).
+FREEFEM_OPTIONS=" -v -f -fglut -glut -gff -check_plugin -nw -ng -wg -md -ne -cd -cdtmp -jc -ns -nowait -nc -log -wait -? "
+refuse_freefem_arguments() {
+  local a before shown
   for a in "$@"; do
+    shown="${a:0:80}"; [ "${#a}" -le 80 ] || shown="$shown..."
+    if [[ "$FREEFEM_OPTIONS" == *" $a "* ]]; then
+      echo "error: the argument '$shown' is an option of FreeFem++ itself, which it reads wherever it stands: the suite refuses it (as the value of an option: rename that file or folder)" >&2
+      exit 2
+    fi
     case "$a" in -*=*|D*=*) ;; *) continue ;; esac
     before="${a%%=*}"
     if [ "${#before}" -gt 3 ]; then
-      echo "error: the argument '${a:0:80}$([ "${#a}" -gt 80 ] && echo ...)' would be read by FreeFem++ as a macro definition (an argument that starts with '-' or 'D' and has an '=' after its fourth character, wherever it stands), which could change the script: the suite refuses it" >&2
+      echo "error: the argument '$shown' would be read by FreeFem++ as a macro definition (an argument that starts with '-' or 'D' and has an '=' after its fourth character, wherever it stands), which could change the script: the suite refuses it" >&2
       exit 2
     fi
   done
@@ -186,7 +197,8 @@ case "$command" in
   main)
     trap 'forward_signal 15' TERM; trap 'forward_signal 2' INT; trap 'forward_signal 1' HUP
     ensure_dependencies; main_job ;;
-  solve) refuse_macros "$@"; ensure_dependencies solve; exec "${FREEFEM[@]}" "$here/edp/solve.edp" "$@" ;;   # a signal reaches the solve
+  solve) refuse_freefem_arguments "$@"; ensure_dependencies solve; exec "${FREEFEM[@]}" "$here/edp/solve.edp" "$@" ;;   # a signal reaches the solve
+  compare) refuse_freefem_arguments "$@"; ensure_dependencies solve; exec "${FREEFEM[@]}" "$here/edp/compare.edp" "$@" ;;
   test) ensure_dependencies; exec bash "$here/tests/run_tests.sh" "$@" ;;
   bench) ensure_dependencies; exec bash "$here/tests/bench.sh" "$@" ;;
   stability) ensure_dependencies; exec bash "$here/tests/stability.sh" "$@" ;;
@@ -195,6 +207,6 @@ case "$command" in
     if [ $# -gt 0 ] && { [ -d "$1" ] || [[ "$1" == */* ]]; }; then exec "$PYTHON" "$here/plots/run_figures.py" "$@"; fi
     "$PYTHON" "$here/plots/figures.py" --results "${RESULTS_DIR:-$here/results}" --out "${RESULTS_DIR:-$here/results}/figures" "$@" ;;
   animate) ensure_dependencies; exec "$PYTHON" "$here/plots/animate.py" "$@" ;;
-  -h|--help|help) sed -n '2,13p' "$0" | sed 's/^# \{0,1\}//' ;;
-  *) echo "run.sh: error: unknown command '$command' (commands: solve, test, figures, animate, bench, stability, or none for the main job)" >&2; exit 2 ;;
+  -h|--help|help) sed -n '2,14p' "$0" | sed 's/^# \{0,1\}//' ;;
+  *) echo "run.sh: error: unknown command '$command' (commands: solve, compare, test, figures, animate, bench, stability, or none for the main job)" >&2; exit 2 ;;
 esac

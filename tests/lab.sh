@@ -105,7 +105,7 @@ column bound contact.txt p_nu 9.9999999 10.0000001
 [ "$(awk '!/^#/ && $8 > 0 { printf "%g", $2; exit }' "$LAB/bound/contact_history.txt" 2>/dev/null)" = 0.25 ] || problem "the column's nodes go from damped to the bound at t = 0.25"
 zones stick 0 0 9 0 0
 column stick contact.txt friction_bound 0.39 0.42
-column stick contact.txt v_tau -1e-16 1e-16
+column stick contact.txt v_tau -1e-14 1e-14
 column stick contact.txt lambda_tau 0.315 0.325 1
 column stick contact.txt friction_bound 0.415 0.425 1
 zones paper 1 7 0 14 11

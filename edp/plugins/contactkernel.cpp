@@ -33,8 +33,8 @@
 //       int[int] tangentSlot, int[int] tangentSlot2)  the contact nodes: weight, velocity bound,
 //       slots (-1: none; tangentSlot2, the second tangential slot of a 3D node, makes a pair
 //       with tangentSlot under the disk law, or is alone where a Dirichlet condition fixes the
-//       first tangent); returns 1 if the law of contactlaw.hpp is unusable (checkLaw; the
-//       reason is printed on stderr)
+//       first tangent); returns 1 if the law of contactlaw.hpp is unusable (checkLaw; then
+//       contactKernelLawProblem(string prefix) gives prefix + the reason)
 //   contactKernelNodeVelocity(matrix O)   v -> (v_nu, v_tau) of every node (rows 2i, 2i + 1;
 //       in 3D (v_nu, v_tau, v_tau2), rows 3i, 3i + 1, 3i + 2): what the nodes report (a node may
 //       have fewer slots than velocities)
@@ -197,6 +197,7 @@ long dampingTable(KN<double> *const &pr, KN<double> *const &pp) {
   return 0;
 }
 
+std::string lawProblem;                        // set by nodes() when checkLaw refuses the law
 long nodes(KN<double> *const &px, KN<double> *const &pw, KN<double> *const &pg, KN<long> *const &pns,
            KN<long> *const &pts, KN<long> *const &pts2) {
   KN<double> &x = *px, &w = *pw, &g = *pg;
@@ -232,20 +233,20 @@ long nodes(KN<double> *const &px, KN<double> *const &pw, KN<double> *const &pg, 
   }
   for (int j = 0; j < slots; j++) { L.setBound(j, g[owner[j]]); L.setAugmentation(j, SP.r); }
   std::string why;
+  lawProblem.clear();
   for (int i = 0; i < nn; i++)
     if (checkLaw(L.P, g[i], why)) {
-      // FreeFEM points std::cerr at the standard output: write to stderr itself
-      std::fflush(nullptr);
-      static const char *family[] = {"", "; p is the scene's damping power: check that line",
-                                     "; p is the scene's damping table: check that line"};
-      std::fprintf(stderr, "error: the law of edp/plugins/contactlaw.hpp cannot be used: %s (c_nu = %g, mu = %g, g = %g)%s\n",
-                   why.c_str(), L.P.cnu, L.P.mu, g[i], family[L.P.damping >= 1 && L.P.damping <= 2 ? L.P.damping : 0]);
-      std::fflush(stderr);
+      char data[160];
+      std::snprintf(data, sizeof data, " (c_nu = %g, mu = %g, g = %g)", L.P.cnu, L.P.mu, g[i]);
+      lawProblem = "the law of edp/plugins/contactlaw.hpp cannot be used: " + why + data;
       return 1;
     }
   N.ready = true;
   return 0;
 }
+// why the law of the last contactKernelNodes that returned 1 cannot be used (the script names
+// the scene's lines it came from)
+string *lawProblemText(Stack stack, string *const &prefix) { return Add2StackOfPtr2Free(stack, new string(*prefix + lawProblem)); }
 
 long nodeVelocity(Matrice_Creuse<double> *const &pO);
 
@@ -2105,6 +2106,7 @@ static void Load_Init() {
   Global.Add("contactKernelParameter", "(", new OneOperator2_<long, string *, double>(parameter));
   Global.Add("contactKernelDampingTable", "(", new OneOperator2_<long, KN<double> *, KN<double> *>(dampingTable));
   Global.Add("contactKernelNodes", "(", new OneOperator6_<long, KN<double> *, KN<double> *, KN<double> *, KN<long> *, KN<long> *, KN<long> *>(nodes));
+  Global.Add("contactKernelLawProblem", "(", new OneOperator1s_<string *, string *>(lawProblemText));
   Global.Add("contactKernelNodeVelocity", "(", new OneOperator1_<long, Matrice_Creuse<double> *>(nodeVelocity));
   Global.Add("contactKernelNodeFrames", "(", new OneOperator2_<long, KNM<double> *, KN<double> *>(nodeFrames));
   Global.Add("contactKernelDampingSlope", "(", new OneOperator1_<long, KN<double> *>(dampingSlope));

@@ -48,6 +48,8 @@
 //   runGeoDimension(string path)         3 if a .geo defines a Physical Volume, else 2
 //   runMeshLacksLabel(string path, string labels)   the first label no boundary element carries, or -1
 //   runRestartWith(string arg)           this program again in this process, one argument more
+//   runSameDomain(string a, string b)    compare.edp: exit 2 unless two checked meshes cover one
+//       domain with the same boundary labels
 #include "ff++.hpp"
 #include "AFunction_ext.hpp"
 #include <algorithm>
@@ -170,6 +172,11 @@ void say(const char *text) { if (write(2, text, std::strlen(text)) < 0) {} }
 void onSignal(int signal) {
   const bool removed = cleanPartial;
   cleanUp();
+  if (signal == SIGXFSZ) {                         // a file could not be written: the output folder's exit code
+    say("error: a file of the run grew past the file-size limit (ulimit -f; SIGXFSZ)");
+    say(removed ? ": the run removed its unfinished output folder\n" : "\n");
+    _exit(7);
+  }
   const char *crash = crashName(signal);
   if (crash) { say("error: the run crashed ("); say(crash); say(": a bug, or too little memory)"); }
   else say("interrupted");
@@ -224,9 +231,10 @@ bool validUtf8(const std::string &s) {
 }
 
 // A message as it may be shown on a terminal: bytes that are not UTF-8 and control characters
-// (but line ends) as \xHH, and a word (a run without spaces: a value, a path) longer than
-// longWord bytes cut in its middle, with its length, so that a megabyte value is not echoed.
-const size_t longWord = 160;
+// (but line ends) as \xHH, a word (a run without spaces: a value, a path) longer than longWord
+// bytes cut in its middle, with its length, and a message longer than longMessage bytes (a
+// value of many words) too: a megabyte value is not echoed.
+const size_t longWord = 160, longMessage = 1200;
 std::string shown(const std::string &text) {
   std::string out, word;
   auto flush = [&]() {
@@ -248,6 +256,12 @@ std::string shown(const std::string &text) {
     word += text.substr(i, n); i += n;
   }
   flush();
+  if (out.size() > longMessage) {                    // a long value of many words: the middle cut
+    size_t head = 800, tail = 300;
+    while (head > 0 && ((unsigned char)out[head] & 0xC0) == 0x80) head--;
+    while (tail > 0 && ((unsigned char)out[out.size() - tail] & 0xC0) == 0x80) tail--;
+    out = out.substr(0, head) + " ...(" + std::to_string(out.size() - head - tail) + " bytes cut)... " + out.substr(out.size() - tail);
+  }
   return out;
 }
 
@@ -265,11 +279,11 @@ long runNote(string *const &message) {
   toStderr(shown(*message) + "\n");
   return 0;
 }
-// the number of seconds an environment variable gives (a number >= 0), or -1 when it is not set;
-// any other value: exit 2 naming it
+// the number of seconds an environment variable gives (a number >= 0), or -1 when it is not set
+// or empty; any other value: exit 2 naming it
 double runEnvironmentSeconds(string *const &name) {
   const char *text = std::getenv(name->c_str());
-  if (!text) return -1;
+  if (!text || !*text) return -1;
   char *end = nullptr;
   const double value = std::strtod(text, &end);
   if (!*text || *end || !std::isfinite(value) || value < 0)
@@ -1140,6 +1154,8 @@ void checkMesh(const std::string &path, const std::string &outPath, const std::s
     if (std::fabs(area) < 1e-8)
       throw MeshProblem{"triangle " + std::to_string(t.id) + " has the area " + numberText(std::fabs(area)) +
                         ", below the 1e-8 that FreeFEM's mesh reader accepts: give the lengths in a smaller unit (millimetres instead of metres, say, with the material data in matching units)"};
+    if (area < 0 && outPath.empty())               // no copy to reorient it in: FreeFEM's reader would stop
+      throw MeshProblem{"triangle " + std::to_string(t.id) + " is clockwise (a mesh the suite wrote has none: a damaged file?)"};
     if (area < 0) { std::swap(t.nodes[1], t.nodes[2]); reoriented++; }
     for (long k : t.nodes) used[k] = 1;
     for (int k = 0; k < 3; k++) directed[{t.nodes[k], t.nodes[(k + 1) % 3]}].push_back(&t - triangles.data());
@@ -1367,6 +1383,164 @@ void checkMesh3(const std::string &path, const std::string &outPath, const std::
 // The dimension of a mesh file: 3 if it has a volume element (a tetrahedron, gmsh type 4, or
 // another that the 3D checker then refuses: hexahedra, prisms, pyramids, of any order), 2 if
 // it is a gmsh file without one, 0 if it cannot be read as one (the checker then says why)
+// ---------------------------------------------------------------- two meshes of one domain
+// compare.edp compares the fields of two runs only if their meshes cover the same domain with
+// the same boundary labels. The boundary of a checked mesh is its labelled boundary elements
+// (2D: lines, 3D: triangles; the first tag). Each element's centroid must lie on the other
+// mesh's boundary, on an element of its label, within 1e-6 of the extent plus what a chord
+// may lie off a curved boundary: the sagitta h theta / 8 of an element of length h whose
+// neighbours turn by theta from it (the curve turns by about theta over h), of both elements.
+// On a polygon theta is 0 away from the corners, so another length or a moved support is seen.
+struct Boundary {
+  std::vector<std::array<double, 3>> xyz;            // the nodes
+  std::vector<std::array<long, 3>> corner;           // each element's nodes (two in 2D)
+  std::vector<long> label;
+  std::vector<std::array<double, 3>> centroid, axis; // its centroid; its direction (2D) or normal (3D)
+  std::vector<double> length, sagitta, reach;        // its size h; h theta / 8; the farthest of its nodes from its centroid
+  int corners = 2;
+  double extent = 0;
+};
+double dot3(const std::array<double, 3> &a, const std::array<double, 3> &b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
+std::array<double, 3> minus3(const std::array<double, 3> &a, const std::array<double, 3> &b) { return {a[0] - b[0], a[1] - b[1], a[2] - b[2]}; }
+std::array<double, 3> cross3(const std::array<double, 3> &a, const std::array<double, 3> &b) {
+  return {a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]};
+}
+Boundary readBoundary(const std::string &path) {
+  MeshText M = readMeshText(path);
+  Boundary B;
+  std::map<long, long> index;
+  B.xyz.resize(M.nodeCount);
+  double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
+  for (long i = 0; i < M.nodeCount; i++) {
+    long id;
+    double x, y, z;
+    readNode(M.lines[M.nodesAt + 2 + i], index, id, x, y, z);
+    index[id] = i;
+    B.xyz[i] = {x, y, z};
+    for (int k = 0; k < 3; k++) { lo[k] = std::min(lo[k], B.xyz[i][k]); hi[k] = std::max(hi[k], B.xyz[i][k]); }
+  }
+  for (int k = 0; k < 3; k++) B.extent = std::max(B.extent, hi[k] - lo[k]);
+  bool three = false;
+  std::vector<std::vector<long>> elements;
+  for (long i = 0; i < M.elementCount; i++) {
+    std::vector<std::string> w = fieldsOf(M.lines[M.elementsAt + 2 + i]);
+    std::vector<long> v;
+    for (auto &word : w) v.push_back(std::atol(word.c_str()));
+    three = three || (v.size() > 1 && v[1] == 4);
+    elements.push_back(v);
+  }
+  B.corners = three ? 3 : 2;
+  const long wanted = three ? 2 : 1;                 // gmsh types: 1 line, 2 triangle
+  for (auto &v : elements) {
+    if (v.size() < 3 || v[1] != wanted || v[2] < 1 || (long)v.size() < 3 + v[2] + B.corners) continue;
+    std::array<long, 3> nodes = {0, 0, 0};
+    for (int k = 0; k < B.corners; k++) nodes[k] = index.at(v[3 + v[2] + k]);
+    B.corner.push_back(nodes);
+    B.label.push_back(v[3]);
+  }
+  const size_t n = B.corner.size();
+  B.centroid.resize(n); B.axis.resize(n); B.length.assign(n, 0); B.sagitta.assign(n, 0); B.reach.assign(n, 0);
+  std::map<long, std::vector<size_t>> at;            // the elements at each node
+  for (size_t e = 0; e < n; e++) {
+    std::array<double, 3> c = {0, 0, 0};
+    for (int k = 0; k < B.corners; k++) for (int d = 0; d < 3; d++) c[d] += B.xyz[B.corner[e][k]][d] / B.corners;
+    B.centroid[e] = c;
+    const auto &a = B.xyz[B.corner[e][0]], &b = B.xyz[B.corner[e][1]];
+    std::array<double, 3> axis = minus3(b, a);
+    if (three) axis = cross3(axis, minus3(B.xyz[B.corner[e][2]], a));
+    const double norm = std::sqrt(dot3(axis, axis));
+    for (int d = 0; d < 3; d++) axis[d] = norm > 0 ? axis[d] / norm : 0;
+    B.axis[e] = axis;
+    for (int k = 0; k < B.corners; k++) {
+      const auto r = minus3(B.xyz[B.corner[e][k]], c);
+      B.reach[e] = std::max(B.reach[e], std::sqrt(dot3(r, r)));
+      const auto side = minus3(B.xyz[B.corner[e][(k + 1) % B.corners]], B.xyz[B.corner[e][k]]);
+      B.length[e] = std::max(B.length[e], std::sqrt(dot3(side, side)));
+      at[B.corner[e][k]].push_back(e);
+    }
+  }
+  for (size_t e = 0; e < n; e++) {
+    double theta = 0;                                // the largest turn to a neighbour (lines: unoriented)
+    for (int k = 0; k < B.corners; k++)
+      for (size_t f : at[B.corner[e][k]]) {
+        const double c = std::fabs(dot3(B.axis[e], B.axis[f]));
+        theta = std::max(theta, std::acos(std::min(1., c)));
+      }
+    B.sagitta[e] = B.length[e] * theta / 8;
+  }
+  return B;
+}
+// the distance from p to element e of B (a segment, or a triangle)
+double distanceTo(const Boundary &B, size_t e, const std::array<double, 3> &p) {
+  const auto &a = B.xyz[B.corner[e][0]], &b = B.xyz[B.corner[e][1]];
+  auto segment = [&](const std::array<double, 3> &s, const std::array<double, 3> &t) {
+    const auto st = minus3(t, s), sp = minus3(p, s);
+    const double along = dot3(st, st) > 0 ? std::max(0., std::min(1., dot3(sp, st) / dot3(st, st))) : 0.;
+    const std::array<double, 3> q = {s[0] + along * st[0], s[1] + along * st[1], s[2] + along * st[2]};
+    const auto d = minus3(p, q);
+    return std::sqrt(dot3(d, d));
+  };
+  if (B.corners == 2) return segment(a, b);
+  const auto &c = B.xyz[B.corner[e][2]];
+  const auto ab = minus3(b, a), ac = minus3(c, a), ap = minus3(p, a);
+  const double d00 = dot3(ab, ab), d01 = dot3(ab, ac), d11 = dot3(ac, ac), d20 = dot3(ap, ab), d21 = dot3(ap, ac);
+  const double det = d00 * d11 - d01 * d01;
+  if (det > 0) {                                     // inside the triangle's projection: the distance to its plane
+    const double v = (d11 * d20 - d01 * d21) / det, w = (d00 * d21 - d01 * d20) / det;
+    if (v >= 0 && w >= 0 && v + w <= 1) return std::fabs(dot3(ap, B.axis[e]));
+  }
+  return std::min({segment(a, b), segment(b, c), segment(c, a)});
+}
+// "" if every element of A lies on an element of R of its label (within the tolerance), else
+// why not; the elements of R sorted by the x of their centroids, searched outwards from p's x
+std::string boundaryOff(const Boundary &A, const Boundary &R, const std::string &nameA, const std::string &nameR) {
+  std::vector<size_t> order(R.corner.size());
+  for (size_t f = 0; f < order.size(); f++) order[f] = f;
+  std::sort(order.begin(), order.end(), [&](size_t a, size_t b) { return R.centroid[a][0] < R.centroid[b][0]; });
+  double widest = 0;
+  for (double r : R.reach) widest = std::max(widest, r);
+  const double floor = 1e-6 * std::max(A.extent, R.extent);
+  for (size_t e = 0; e < A.corner.size(); e++) {
+    const auto &p = A.centroid[e];
+    double best = INFINITY, nearest = INFINITY;      // the least distance, less R's sagitta, to an element of the label; that distance
+    const size_t start = std::lower_bound(order.begin(), order.end(), p[0],
+                                          [&](size_t f, double x) { return R.centroid[f][0] < x; }) - order.begin();
+    for (int side = 0; side < 2; side++)
+      for (size_t k = side ? start : start - 1; k < order.size(); k = side ? k + 1 : k - 1) {
+        const size_t f = order[k];
+        if (std::fabs(R.centroid[f][0] - p[0]) - widest > best) break;
+        if (R.label[f] == A.label[e]) {
+          const double d = distanceTo(R, f, p);
+          if (d - R.sagitta[f] < best) { best = d - R.sagitta[f]; nearest = d; }
+        }
+        if (!side && k == 0) break;
+      }
+    if (!(best <= floor + A.sagitta[e])) {
+      char at[160];
+      std::snprintf(at, sizeof at, "(%.6g, %.6g%s", p[0], p[1], A.corners == 3 ? "" : ")");
+      std::string where = at;
+      if (A.corners == 3) { std::snprintf(at, sizeof at, ", %.6g)", p[2]); where += at; }
+      return "the boundary labelled " + std::to_string(A.label[e]) + " of " + nameA + " passes through " + where + ", "
+             + (std::isfinite(best) ? numberText(nearest) + " away from " + nameR + "'s boundary of that label (tolerance "
+                                      + numberText(nearest - best + floor + A.sagitta[e]) + ")"
+                                    : "but " + nameR + " has no boundary of that label");
+    }
+  }
+  return "";
+}
+// compare.edp: exit 2 naming where, unless the two meshes (checked before) cover one domain with
+// the same boundary labels
+long runSameDomain(string *const &pathA, string *const &pathR) {
+  Boundary A, R;
+  try { A = readBoundary(*pathA); R = readBoundary(*pathR); }
+  catch (const MeshProblem &problem) { fail(3, "compare.edp: " + problem.why); }
+  if (A.corners != R.corners) fail(2, "compare.edp: " + *pathA + " and " + *pathR + " are meshes of two dimensions");
+  std::string why = boundaryOff(A, R, *pathA, *pathR);
+  if (why.empty()) why = boundaryOff(R, A, *pathR, *pathA);
+  if (!why.empty()) fail(2, "compare.edp: the runs' meshes do not cover the same domain with the same boundary labels: " + why);
+  return 0;
+}
+
 long runMeshDimension(string *const &path) {
   try {
     MeshText M = readMeshText(*path);
@@ -1544,6 +1718,7 @@ static void Load_Init() {
   Global.Add("runGeoDimension", "(", new OneOperator1_<long, string *>(runGeoDimension));
   Global.Add("runMeshLacksLabel", "(", new OneOperator2_<long, string *, string *>(runMeshLacksLabel));
   Global.Add("runRestartWith", "(", new OneOperator1_<long, string *>(runRestartWith));
+  Global.Add("runSameDomain", "(", new OneOperator2_<long, string *, string *>(runSameDomain));
   Global.Add("runCheckMesh", "(", new OneOperator6_<long, string *, string *, string *, string *, string *, long>(runCheckMesh));
 }
 

@@ -112,3 +112,72 @@ expect_failure "an -out longer than the system allows" 2 "option -out is 4090 by
 p = sys.argv[1] + "/"
 while len(p) + 200 < 4090: p += "d" * 199 + "/"
 print(p + "e" * (4090 - len(p)))' "$work")" "${coarse[@]}"
+
+# ---- FreeFem++'s own options given as values are refused by run.sh before FreeFem++ starts
+# (FreeFem++ acts on -f, -glut, -fglut, -check_plugin before any script or plugin runs)
+diag="$work/freefem-options.diag"; : > "$diag"; status=0
+printf 'exec("touch %s/pwned-f");\n' "$root/$work/macros" > "$work/macros/other.edp"
+echo keep > "$work/macros/victim.txt"
+for args in "-f|$work/macros/other.edp" "-glut|touch $root/$work/macros/pwned-glut" "-fglut|$work/macros/victim.txt" \
+            "-check_plugin|/nonexistent.so" "-scene|-?" "-out|-wg"; do
+  option="${args%%|*}" value="${args#*|}"
+  rc=0; bash run.sh solve "${coarse[@]}" -out "$work/macros/run" "$option" "$value" > "$work/macros.log" 2>&1 || rc=$?
+  if [ "$rc" != 2 ] || ! grep -q "^error: the argument '.*' is an option of FreeFem++ itself" "$work/macros.log" \
+     || compgen -G "$work/macros/pwned*" > /dev/null || [ "$(cat "$work/macros/victim.txt")" != keep ] || [ -e "$work/macros/run" ]; then
+    { echo "$option '$value': exit $rc"; cat "$work/macros.log"; } >> "$diag"; status=1
+  fi
+done
+report $status "FreeFem++'s own options (-f, -glut, -fglut, -check_plugin, -?, -wg) given to ./run.sh solve are refused before FreeFem++ starts: nothing runs, nothing is written" "$diag"
+
+# ---- a bound within the velocities' round-off: exit 9, saying so; a law or a slope that
+# cannot be used names the scene's lines
+# (round-off decides which fails first: the statuses' thresholds of a step, exit 4, or the
+# end-of-run check, exit 9; either names the cause)
+diag="$work/tiny-g.diag"; : > "$diag"; status=0
+for sizes in "-nx 8 -ny 4 -dt 0.1" "-nx 8 -ny 4 -T 0.1 -dt 0.05"; do
+  rm -rf "$work/tiny-g"
+  # shellcheck disable=SC2086
+  rc=0; solve $sizes -g 1e-13 -out "$work/tiny-g" > "$work/tiny-g.log" 2>&1 || rc=$?
+  { [ "$rc" = 4 ] || [ "$rc" = 9 ]; } && grep -q "the bound g (1e-13 at its smallest) is within the round-off of the velocities" "$work/tiny-g.log" \
+    && [ ! -e "$work/tiny-g" ] || { echo "$sizes -g 1e-13: exit $rc"; cat "$work/tiny-g.log"; status=1; } >> "$diag"
+done
+report $status "-g 1e-13, within the velocities' round-off: exit 4 or 9 naming that cause, no results" "$diag"
+grep -v -e '^cnu' -e '^damping' edp/scenes/paper.scene > "$work/law-edge.scene"; echo "damping table 0 0 1 1e300" >> "$work/law-edge.scene"
+expect_failure "a damping table whose slope passes 1e20" 3 "law-edge.scene:[0-9]+ \\(damping\\): the damped response's slope p'\\(g\\) \\(up to 1e\\+300\\) gives matrix entries" -scene "$work/law-edge.scene" "${coarse[@]}"
+{ grep -v '^bound_profile' edp/scenes/bound-profile.scene; echo "bound_profile 0 1e307 2 1e308"; } > "$work/law-edge2.scene"
+expect_failure "a law not finite at the bound" 3 "law-edge2.scene:[0-9]+ \\(damping\\), .*law-edge2.scene:[0-9]+ \\(bound_profile\\): the law of edp/plugins/contactlaw.hpp cannot be used: p is not finite" -scene "$work/law-edge2.scene" "${coarse[@]}"
+
+# ---- scene parsing stays linear: at most 256 entries; a long value of many words is cut
+{ cat edp/scenes/paper.scene; for i in $(seq 1 300); do echo "dirichlet $((100 + i)) x"; done; } > "$work/many.scene"
+expect_failure "300 dirichlet lines" 3 "many.scene:[0-9]+: more than 256 entries" -scene "$work/many.scene"
+diag="$work/many-words.diag"; : > "$diag"; status=0
+rc=0; solve -mesh "$(for i in $(seq 1 110); do printf 'abcdefghijabcdefghijabcdefghij%05d ' "$i"; done)" -out "$work/many-words" > "$work/many-words.log" 2>&1 || rc=$?
+[ "$rc" = 3 ] && [ "$(wc -c < "$work/many-words.log")" -lt 1300 ] && grep -q "bytes cut" "$work/many-words.log" || { echo "exit $rc, $(wc -c < "$work/many-words.log") bytes"; head -c 400 "$work/many-words.log"; } >> "$diag"
+[ -s "$diag" ] && status=1
+report $status "a value of many words is cut in the message (under 1300 bytes)" "$diag"
+
+# ---- a file-size limit: the run exits 7 and removes its folder; gmsh stopped by it says so
+diag="$work/file-size.diag"; : > "$diag"; status=0
+rm -rf "$work/big-fields"
+solve -nx 100 -ny 50 -T 0.05 -dt 0.05 -out "$work/big-fields" > /dev/null 2>&1 || status=1     # the mesh, cached
+rm -rf "$work/big-fields"
+rc=0; (ulimit -f 200; solve -nx 100 -ny 50 -T 0.05 -dt 0.05 -out "$work/big-fields") > "$work/file-size.log" 2>&1 || rc=$?
+[ "$rc" = 7 ] && grep -q "^error: a file of the run grew past the file-size limit (ulimit -f; SIGXFSZ): the run removed its unfinished output folder" "$work/file-size.log" \
+  && [ ! -e "$work/big-fields" ] && ! compgen -G "$work/big-fields.partial*" > /dev/null || { echo "fields past the limit: exit $rc"; cat "$work/file-size.log"; } >> "$diag"
+rc=0; (ulimit -f 20; solve -nx 101 -ny 53 -T 0.05 -dt 0.05 -out "$work/big-fields") > "$work/file-size.log" 2>&1 || rc=$?
+[ "$rc" = 3 ] && grep -q "^error: gmsh failed on .* (stopped by SIGXFSZ: the file-size limit, ulimit -f)" "$work/file-size.log" \
+  && [ ! -e "$work/big-fields" ] || { echo "gmsh past the limit: exit $rc"; cat "$work/file-size.log"; } >> "$diag"
+[ -s "$diag" ] && status=1
+report $status "past the file-size limit: exit 7 and no folder; gmsh stopped by it: exit 3 naming SIGXFSZ" "$diag"
+
+# ---- check_results.py: a released column (q = 0 after a push) passes --column; a node of
+# mesh.msh moved away from fields.txt fails
+diag="$work/checks-more.diag"; : > "$diag"; status=0
+{ grep -v '^load_history' edp/scenes/column.scene; echo "load_history 0 0 0.5 1 0.75 0 1 0"; } > "$work/released.scene"
+rm -rf "$work/released" "$work/moved"
+solve -scene "$work/released.scene" -nx 4 -ny 8 -out "$work/released" >> "$diag" 2>&1 && "$PYTHON" tests/check_results.py "$work/released" --column >> "$diag" 2>&1 || status=1
+cp -r "$work/paper-coarse-original" "$work/moved"
+awk '/^\$Nodes/ { n = 1; print; next } /^\$EndNodes/ { n = 0 } n && $1 == 21 { $2 += 0.05; $3 += 0.05 } { print }' "$work/paper-coarse-original/mesh.msh" > "$work/moved/mesh.msh"
+"$PYTHON" tests/check_results.py "$work/moved" > "$work/moved.log" 2>&1 && { echo "a moved node of mesh.msh passed"; status=1; } >> "$diag"
+grep -q "fields.txt does not list the vertices of mesh.msh in its order" "$work/moved.log" || { echo "no message for the moved node"; cat "$work/moved.log"; status=1; } >> "$diag"
+report $status "check_results.py: a released column passes --column; a node of mesh.msh away from fields.txt fails (2D)" "$diag"

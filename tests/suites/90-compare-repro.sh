@@ -62,7 +62,12 @@ compare_accepts "$work/cmp-full" "$work/cmp-b" '$2 > 0 && $2 < 0.1 * $4 && $6 < 
 compare_accepts "$work/cmp-a" "$work/cmp-adapt" '$2 > 0 && $2 < 0.1 * $4 && $6 < 0.005' || status=1
 compare_accepts "$work/cmp-adapt" "$work/cmp-b" '$2 > 0 && $2 < 0.1 * $4 && $6 < 0.005' || status=1
 compare_accepts "$work/cmp-cyl4" "$work/cmp-cyl16" '$2 > 0 && $2 < 0.1 * $4 && $6 > 0 && $6 < 0.005' || status=1
-report $status "edp/compare.edp accepts what the benchmark compares (-dt, -mesh, penalty at another eps, -tol, -solver full, -adapt) and a coarse against a fine mesh of a curved body" "$diag"
+# contact_normal checks the mesh's normals; the same run with 'auto' is the same model (0 apart)
+rm -rf "$work/cmp-auto"
+sed 's/^contact_normal .*/contact_normal auto/' "$work/cmp-a/scene.scene" > "$work/cmp-auto.scene"
+solve -scene "$work/cmp-auto.scene" -out "$work/cmp-auto" >> "$diag" 2>&1 || status=1
+compare_accepts "$work/cmp-auto" "$work/cmp-a" '$2 == 0 && $6 == 0' || status=1
+report $status "edp/compare.edp accepts what the benchmark compares (-dt, -mesh, penalty at another eps, -tol, -solver full, -adapt), a coarse against a fine mesh of a curved body, contact_normal auto against given" "$diag"
 
 # another model: refused with exit 2, the key, both values (a long one cut with "...") and
 # both folders named
@@ -82,10 +87,23 @@ compare_refuses 2 "the runs differ in load_history \\($work/cmp-zero: '0 0 1 0',
 compare_refuses 2 "the runs differ in load_history \\($a: no load_history line, $work/cmp-zero: '0 0 1 0'\\)" "$a" "$work/cmp-zero" || status=1
 compare_refuses 2 "the runs differ in traction \\($work/cmp-oblique: '0\\.7071[0-9]* -0\\.7071[0-9]*', $b: '0 -1'\\)" "$work/cmp-oblique" "$b" || status=1
 compare_refuses 2 "the runs differ in damping \\($work/cmp-power: 'power 1000 2', $b: 'linear 50'\\)" "$work/cmp-power" "$b" || status=1
+cmp_variant cmp-two 's/^Lx 2$/Lx 3/; s/^traction 0 -1$/traction 1 -1/'
+compare_refuses 2 "the runs differ in Lx \\($work/cmp-two: '3', $b: '2'\\); traction \\($work/cmp-two: '0\\.7071[0-9]* -0\\.7071[0-9]*', $b: '0 -1'\\): they" "$work/cmp-two" "$b" || status=1
 compare_refuses 2 "the runs differ in bound_profile \\($work/cmp-profile: '0 0\\.04[^']{71}\\.\\.\\.', $b: no bound_profile line\\)" "$work/cmp-profile" "$b" || status=1
-compare_refuses 2 "the runs' meshes do not cover the same domain: x from 0 to 3 in $work/cmp-domain/mesh\\.msh, from 0 to 2 in $b/mesh\\.msh" "$work/cmp-domain" "$b" || status=1
-compare_refuses 2 "the runs' meshes do not cover the same domain: area 1 in $work/cmp-cylsquare/mesh\\.msh, 0\\.78[0-9]* in $work/cmp-cyl16/mesh\\.msh" "$work/cmp-cylsquare" "$work/cmp-cyl16" || status=1
-report $status "edp/compare.edp refuses runs of another model (exit 2, the key, both values and both folders): Lx, a zero load_history, the traction direction, the damping family, a bound_profile (cut at 80 characters), bodies of other domains given with -mesh (a longer box, another area)" "$diag"
+domain="the runs' meshes do not cover the same domain with the same boundary labels: the boundary labelled"
+compare_refuses 2 "$domain 1 of $work/cmp-domain/mesh\\.msh passes through \\(2\\.[0-9]*, 0\\), 0\\.[0-9]* away from $b/mesh\\.msh's boundary of that label" "$work/cmp-domain" "$b" || status=1
+compare_refuses 2 "$domain [0-9] of $work/cmp-cylsquare/mesh\\.msh passes through .* away from $work/cmp-cyl16/mesh\\.msh's boundary of that label" "$work/cmp-cylsquare" "$work/cmp-cyl16" || status=1
+# the same rectangle with its supports on the other sides (x -> 2 - x), and a one-cell mesh of
+# the body against a mesh of one 1.5 times larger (a coarse mesh must not widen the tolerance)
+awk '/^\$Nodes/ { n = 1; print; next } /^\$EndNodes/ { n = 0 } n && NF == 4 { $2 = 2 - $2 } { print }' "$work/cmp-a/mesh.msh" > "$work/cmp-mirror.msh"
+awk '/^\$Nodes/ { n = 1; print; next } /^\$EndNodes/ { n = 0 } n && NF == 4 { $2 *= 1.5; $3 *= 1.5 } { print }' "$work/cmp-a/mesh.msh" > "$work/cmp-large.msh"
+rm -rf "$work/cmp-mirror" "$work/cmp-large" "$work/cmp-one"
+solve -mesh "$work/cmp-mirror.msh" -dt 0.1 -out "$work/cmp-mirror" >> "$diag" 2>&1 || status=1
+solve -mesh "$work/cmp-large.msh" -dt 0.1 -out "$work/cmp-large" >> "$diag" 2>&1 || status=1
+solve -nx 1 -ny 1 -dt 0.1 -out "$work/cmp-one" >> "$diag" 2>&1 || status=1
+compare_refuses 2 "$domain [24] of $work/cmp-mirror/mesh\\.msh passes through \\([02], 0\\.[0-9]*\\), 2 away from $work/cmp-a/mesh\\.msh's boundary of that label" "$work/cmp-mirror" "$work/cmp-a" || status=1
+compare_refuses 2 "$domain [0-9] of $work/cmp-one/mesh\\.msh passes through .* away from $work/cmp-large/mesh\\.msh's boundary of that label" "$work/cmp-one" "$work/cmp-large" || status=1
+report $status "edp/compare.edp refuses runs of another model (exit 2, every key, both values and both folders): Lx, a zero load_history, the traction direction, the damping family, a bound_profile (cut at 80 characters), bodies of other domains or supports given with -mesh (a longer box, another area, supports on the other sides, a one-cell mesh against a larger body)" "$diag"
 
 # 3D: the slab (slab3d) on two meshes of tetrahedra; another depth Lz, and a 2D run, refused
 diag="$work/compare-3d.diag"; : > "$diag"; status=0
@@ -115,6 +133,7 @@ damaged cmp-fewer cmp-a fields.txt awk 'NR == 62 { NF = 6 } { print }'
 damaged cmp-longer cmp-a fields.txt awk '{ print } END { print "1 2 3 4 5 6 7" }'
 damaged cmp-moved cmp-a fields.txt awk 'NR == 70 { t = $1; $1 = $2; $2 = t } { print }'
 damaged cmp-badmesh cmp-a mesh.msh head -c 2000
+damaged cmp-clockwise cmp-a mesh.msh awk '/^\$Elements/ { e = 1 } e && $2 == 2 && NF >= 8 { t = $NF; $NF = $(NF - 1); $(NF - 1) = t } { print }'
 damaged cmp-3nan cmp-3a fields.txt awk '/^# x / { h = NR } h && NR == h + 5 { $10 = "nan" } { print }'
 rm -rf "$work/cmp-noscene"; cp -r "$work/cmp-a" "$work/cmp-noscene"; rm "$work/cmp-noscene/scene.scene"
 rm -rf "$work/cmp-nomesh"; cp -r "$work/cmp-a" "$work/cmp-nomesh"; rm "$work/cmp-nomesh/mesh.msh"
@@ -127,10 +146,11 @@ compare_refuses 3 "$work/cmp-fewer/fields\\.txt:62: not 7 numbers separated by s
 compare_refuses 3 "$work/cmp-longer/fields\\.txt:$((lines + 1)): a line more than the $rows vertices of the mesh" "$work/cmp-longer" "$b" || status=1
 compare_refuses 3 "$work/cmp-moved/fields\\.txt:70: a row at \\(1, 0\\.75\\), but vertex [0-9]+ of $work/cmp-moved/mesh\\.msh is at \\(0\\.75, 1\\)" "$work/cmp-moved" "$b" || status=1
 compare_refuses 3 "$work/cmp-badmesh/mesh\\.msh is no readable gmsh MSH 2\\.2 mesh" "$work/cmp-badmesh" "$b" || status=1
+compare_refuses 3 "$work/cmp-clockwise/mesh\\.msh: triangle [0-9]+ is clockwise" "$work/cmp-clockwise" "$b" || status=1
 compare_refuses 3 "$work/cmp-3nan/fields\\.txt:[0-9]+: v_z = 'nan' is not a finite number" "$work/cmp-3nan" "$work/cmp-3b" || status=1
 compare_refuses 2 "$work/cmp-noscene has no readable scene\\.scene" "$work/cmp-noscene" "$b" || status=1
 compare_refuses 2 "$work/cmp-nomesh has no readable mesh\\.msh" "$b" "$work/cmp-nomesh" || status=1
-report $status "edp/compare.edp refuses damaged runs (exit 3, file and line named: a truncated, short, nan, inf or longer fields.txt, a row short of a number or away from its vertex, a truncated mesh.msh) and folders without scene.scene or mesh.msh (exit 2)" "$diag"
+report $status "edp/compare.edp refuses damaged runs (exit 3, file and line named: a truncated, short, nan, inf or longer fields.txt, a row short of a number or away from its vertex, a truncated mesh.msh, clockwise triangles) and folders without scene.scene or mesh.msh (exit 2)" "$diag"
 
 # ---- reproducibility: the same options give byte-identical outputs (timings aside)
 diag="$work/repro.diag"; : > "$diag"; status=0

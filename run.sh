@@ -46,11 +46,25 @@ kernel_buildable() {
   command -v g++ >/dev/null 2>&1 && [ -f /usr/include/freefem++/ff++.hpp ] && [ -f /usr/include/suitesparse/cholmod.h ] \
     && { [ -e /usr/lib/x86_64-linux-gnu/liblapack.so ] || [ -e /usr/lib/liblapack.so ]; }
 }
+# plugin_sources FOLDER [HEADER...]: the sources of a plugin, relative to edp/plugins, in the
+# order of its checksum: the headers given (the kernel's law), then the folder's headers and
+# C++ files, sorted (or FOLDER.cpp alone, a plugin of one file)
+plugin_sources() {
+  local folder="$1"; shift
+  local list="$*"
+  if [ -d "$PLUGINS/$folder" ]; then
+    list="$list $(cd "$PLUGINS" && LC_ALL=C ls -1 "$folder"/*.hpp "$folder"/*.cpp 2> /dev/null | tr '\n' ' ')"
+  else
+    list="$list $folder.cpp"
+  fi
+  echo $list
+}
 build_plugin() { # build_plugin NAME "SOURCES..." [LIBRARIES...]: (re)build edp/plugins/build/NAME.so
   local name="$1" sources="$2"; shift 2
-  local target="$PLUGINS/build/$name.so" sum file
+  local target="$PLUGINS/build/$name.so" sum file units=()
   for file in $sources; do
     [ -r "$PLUGINS/$file" ] || { echo "run.sh: error: cannot read $PLUGINS/$file (a source of the $name plugin)" >&2; exit 1; }
+    case "$file" in *.cpp) units+=("$PLUGINS/$file") ;; esac
   done
   # shellcheck disable=SC2086
   sum="$(cd "$PLUGINS" && cat $sources | cksum | cut -d' ' -f1)"
@@ -59,15 +73,16 @@ build_plugin() { # build_plugin NAME "SOURCES..." [LIBRARIES...]: (re)build edp/
   mkdir -p "$PLUGINS/build"
   local tmp="$target.$$" saved compiler
   saved="$(trap -p TERM INT HUP)"
+  # (the plugin compares its sources with these at run time: PLUGIN_SOURCES, PLUGIN_SOURCES_CKSUM)
   # shellcheck disable=SC2086
-  g++ $KERNEL_CXXFLAGS -std=c++14 -fPIC -shared -DNDEBUG -DKERNEL_SOURCES_CKSUM="$sum" -Wno-deprecated-declarations \
-      -I/usr/include/freefem++ -I/usr/include/suitesparse "$PLUGINS/$name.cpp" -o "$tmp" "$@" &
+  g++ $KERNEL_CXXFLAGS -std=c++14 -fPIC -shared -DNDEBUG -DPLUGIN_SOURCES_CKSUM="$sum" -DPLUGIN_SOURCES="\"$sources\"" \
+      -Wno-deprecated-declarations -I/usr/include/freefem++ -I/usr/include/suitesparse -I"$PLUGINS" "${units[@]}" -o "$tmp" "$@" &
   compiler=$!                                     # a signal during the build stops it and leaves no partial .so
   trap 'kill "$compiler" 2>/dev/null; wait "$compiler"; rm -f "$tmp"; exit 143' TERM
   trap 'kill "$compiler" 2>/dev/null; wait "$compiler"; rm -f "$tmp"; exit 130' INT
   trap 'kill "$compiler" 2>/dev/null; wait "$compiler"; rm -f "$tmp"; exit 129' HUP
   if ! wait "$compiler"; then
-    rm -f "$tmp"; echo "run.sh: error: cannot build $target from $PLUGINS/$name.cpp" >&2; exit 1
+    rm -f "$tmp"; echo "run.sh: error: cannot build $target from $sources in $PLUGINS" >&2; exit 1
   fi
   mv "$tmp" "$target"
   trap - TERM INT HUP; eval "$saved"
@@ -75,8 +90,10 @@ build_plugin() { # build_plugin NAME "SOURCES..." [LIBRARIES...]: (re)build edp/
   echo "run.sh: built $target" >&2
 }
 build_kernel() {
-  build_plugin contactkernel "contactkernel.cpp contactlaw.hpp" -lcholmod -llapack -lblas
-  build_plugin runtools "runtools.cpp"
+  local kernel
+  if [ -d "$PLUGINS/kernel" ]; then kernel="$(plugin_sources kernel contactlaw.hpp)"; else kernel="contactkernel.cpp contactlaw.hpp"; fi
+  build_plugin contactkernel "$kernel" -lcholmod -llapack -lblas
+  build_plugin runtools "$(plugin_sources runtools)"
 }
 
 ensure_dependencies() { # ensure_dependencies [solve]

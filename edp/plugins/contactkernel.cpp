@@ -99,9 +99,9 @@
 //       iteration, fixed-point sweeps, Newton matrix factorizations, low-rank corrections,
 //       refinements of corrected solves, Newton steps shortened, halvings of r, steps retried
 //       without the safeguards (a disk law's Newton: newton)], over the run
-//   contactKernelSourcesChanged(string folder)   1 if folder/contactkernel.cpp and
-//       folder/contactlaw.hpp are not the sources this kernel was built from (./run.sh passes
-//       their POSIX cksum as KERNEL_SOURCES_CKSUM), 0 if they are or if that is unknown
+//   contactKernelSourcesChanged(string folder)   1 if the sources in folder are not those this
+//       kernel was built from (./run.sh passes their names and POSIX cksum as PLUGIN_SOURCES,
+//       PLUGIN_SOURCES_CKSUM), 0 if they are or if that is unknown
 #include "ff++.hpp"
 #include "AFunction_ext.hpp"
 #include <cholmod.h>
@@ -111,6 +111,7 @@
 #include <cstdio>
 #include <fstream>
 #include <iostream>
+#include <sstream>
 #include <string>
 #include <vector>
 #include <cmath>
@@ -2092,9 +2093,12 @@ long long posixChecksum(const std::vector<std::string> &files) {
 }
 
 long sourcesChanged(string *const &folder) {
-#ifdef KERNEL_SOURCES_CKSUM
-  const long long sum = posixChecksum({*folder + "/contactkernel.cpp", *folder + "/contactlaw.hpp"});
-  return sum != (long long)KERNEL_SOURCES_CKSUM;
+#if defined(PLUGIN_SOURCES_CKSUM) && defined(PLUGIN_SOURCES)
+  std::vector<std::string> files;
+  std::stringstream in(PLUGIN_SOURCES);
+  std::string name;
+  while (in >> name) files.push_back(*folder + "/" + name);
+  return posixChecksum(files) != (long long)PLUGIN_SOURCES_CKSUM;
 #else
   return 0;
 #endif

@@ -672,7 +672,13 @@ def effective_options(given, scene=None):
         raise InputError(f"unknown option -{unknown[0]} (options: {' '.join(options)})")
     values = {name: option.default for name, option in options.items() if option.default is not None}
     path = scene_path(scene or given.get("scene") or values["scene"])
-    values.update(read_scene(path).options)
+    read = read_scene(path)
+    values.update(read.options)
+    damping = read.data.get("damping")                  # its C is the default of -cnu (a table has none: 0)
+    if damping and damping[0][0] in ("linear", "power") and len(damping[0]) > 1:
+        values["cnu"] = damping[0][1]
+    elif damping:
+        values["cnu"] = "0"
     values.update(given)
     for rule in rules:
         if rule.name not in given and values.get(rule.option) == rule.value:
@@ -721,7 +727,7 @@ class RunScene:
                                                                ps[-1] + last * (r - rs[-1])))
         self.family = family
         profile = words("bound_profile")
-        g = params.real("g")
+        g = None if profile else params.real("g")        # with a profile, -g reads "bound_profile"
         self.g = (lambda x: piecewise(profile, x)) if profile else (lambda x: np.full(np.shape(x), g))
         self.body_force = words("body_force") or [0.0, 0.0]
         history = words("load_history")

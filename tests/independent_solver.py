@@ -452,7 +452,12 @@ class Problem:
         for v in self.cnodes:
             vnu, vtau = 0.0 - self.v[2 * v + 1], self.v[2 * v]   # 0.0 - : no "-0"
             ln, lt = ln_all.get(v, 0.0), lt_all.get(v, 0.0)
-            rows.append([self.xy[v, 0], vnu, vtau, p["cnu"] * max(vnu, 0.0) + ln, ln, lt])
+            damped, g = p["cnu"] * max(vnu, 0.0), p["g"]
+            # what the law gives the node (docs/design.md, "Statuses and zones"), derived here on its own
+            normal = 0 if vnu <= 0 else (2 if vnu >= g * (1 - 1e-6) else 1)
+            tangential = 0 if abs(vtau) <= 1e-6 * g else 1
+            zone = 0 if normal == 0 else 2 * normal - tangential
+            rows.append([self.xy[v, 0], vnu, vtau, damped + ln, ln, lt, g, damped, p["cnu"] * g or 1.0, zone])
         return np.array(rows)
 
     def fields_table(self):
@@ -544,9 +549,10 @@ def compare(run_dir, rtol, tol, maxit, out):
     return 0 if worst <= rtol else 1
 
 
-CONTACT_COLS = ["x", "v_nu", "v_tau", "p_nu", "lambda_nu", "lambda_tau"]
+CONTACT_COLS = ["x", "v_nu", "v_tau", "p_nu", "lambda_nu", "lambda_tau", "g", "damped_response", "force_scale", "zone"]
 # the components of one quantity (the same families as tests/independent_solver3d.py)
-FAMILIES = (("v_nu", "v_tau"), ("p_nu", "lambda_nu", "lambda_tau"), ("u_x", "u_y"), ("v_x", "v_y"))
+FAMILIES = (("v_nu", "v_tau", "g"), ("p_nu", "lambda_nu", "lambda_tau", "damped_response", "force_scale"), ("u_x", "u_y"),
+            ("v_x", "v_y"), ("zone",))
 FAMILY_FLOOR = 1e-4
 FIELD_COLS = ["x", "y", "u_x", "u_y", "v_x", "v_y"]
 

@@ -133,13 +133,14 @@ InputError = suite.InputError
 PARAM_KEYS = ["problem", "T", "dt", "rho", "E", "nu", "muv", "eta", "load", "cnu", "g", "mu", "eps"]
 CONTACT_LABEL, TRACTION_LABEL = 1, 3          # docs/design.md, "Three dimensions" (box.geo's tags)
 AXES = {"x": 0, "y": 1, "z": 2}
-CONTACT_COLS = ["x", "y", "z", "v_nu", "v_tau", "v_tau2", "p_nu", "lambda_nu", "lambda_tau", "lambda_tau2"]
+CONTACT_COLS = ["x", "y", "z", "v_nu", "v_tau", "v_tau2", "p_nu", "lambda_nu", "lambda_tau", "lambda_tau2",
+                "g", "damped_response", "force_scale", "zone"]
 FIELD_COLS = ["x", "y", "z", "u_x", "u_y", "u_z", "v_x", "v_y", "v_z"]
 # --compare measures a column against its largest value, but at least FAMILY_FLOOR times the
 # largest value of its family (the components of one quantity): a column that holds only
 # round-off (lambda_nu where no node reaches the bound) is not divided by that round-off
-FAMILIES = (("v_nu", "v_tau", "v_tau2"), ("p_nu", "lambda_nu", "lambda_tau", "lambda_tau2"),
-            ("u_x", "u_y", "u_z"), ("v_x", "v_y", "v_z"))
+FAMILIES = (("v_nu", "v_tau", "v_tau2", "g"), ("p_nu", "lambda_nu", "lambda_tau", "lambda_tau2", "damped_response", "force_scale"),
+            ("u_x", "u_y", "u_z"), ("v_x", "v_y", "v_z"), ("zone",))
 FAMILY_FLOOR = 1e-4
 R_FACTORS = (1.0, 0.1, 10.0, 0.01, 100.0)    # the scales r of the attempts at a step
 DENSE_LIMIT = 800                             # --linear auto: the whole Jacobian up to this size
@@ -472,6 +473,7 @@ class Problem:
         self.wn = self.weight[self.nnodes]
         self.wt = self.weight[np.array(tslot_node, dtype=int)] if nT else np.zeros(0)
         self.gn = g_node[self.nnodes]
+        self.g_node = g_node
         k = self.k
         S = self.M / k + self.A + k * self.B
         self.S = S[np.ix_(self.free, self.free)]
@@ -773,9 +775,16 @@ class Problem:
                 lam_t[c, self.tdirs[c][k] - 1] = lt[slot]
         V = self.v.reshape(-1, 3)[self.cnodes]
         vel = np.einsum("cda,ca->cd", self.frames, V) + 0.0
-        pnu = p["cnu"] * np.maximum(vel[:, 0], 0.0) + lam_n
+        damped = p["cnu"] * np.maximum(vel[:, 0], 0.0)
+        pnu = damped + lam_n
         pnu[self.ntang < 0] = 0.0
-        return np.column_stack([self.xyz[self.cnodes], vel, pnu, lam_n, lam_t])
+        # what the law gives each node (docs/design.md, "Statuses and zones"), derived here on its own
+        g = self.g_node
+        normal = np.where(vel[:, 0] <= 0, 0, np.where(vel[:, 0] >= g * (1 - 1e-6), 2, 1))
+        tangential = (np.hypot(vel[:, 1], vel[:, 2]) > 1e-6 * g).astype(int)
+        zone = np.where(normal == 0, 0, 2 * normal - tangential)
+        scale = np.where(p["cnu"] * g > 0, p["cnu"] * g, 1.0)
+        return np.column_stack([self.xyz[self.cnodes], vel, pnu, lam_n, lam_t, g, damped, scale, zone])
 
     def fields_table(self):
         return np.column_stack([self.xyz, self.u.reshape(-1, 3), self.v.reshape(-1, 3)])

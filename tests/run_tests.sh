@@ -93,23 +93,28 @@ numeric_view() { grep -v -e '^time_' -e '^check_' -e '^newton_factorizations ' -
 # data): velocities, stresses, energies, forces, displacements. A column that is zero up to
 # the solver's tolerance (lambda_nu of a run that never reaches the bound, the contact work
 # in free flight) is then compared at the scale of its unit, not at that of its own noise;
-# velocities at least at g, stresses at least at c_nu g (the parameter lines of REF).
+# velocities at least at g, stresses at least at p(g) (the largest of the reference's nodes:
+# its contact.txt's columns g and force_scale).
 compare_numeric() {
   local mode="$1" ref="$2" new="$3" abs="$4" rel="$5"; shift 5
-  local args=() field floor
+  local args=() field floor scales
+  # the law's scales, from the reference's contact.txt: the largest g and p(g) of its nodes
+  scales="$(awk '/^#/ { header = $0; next }
+    !n { n = split(substr(header, 3), h); for (i = 1; i <= n; i++) column[h[i]] = i }
+    column["g"] && $column["g"] > g { g = $column["g"] } column["force_scale"] && $column["force_scale"] > s { s = $column["force_scale"] }
+    END { print g + 0, s + 0 }' "$(dirname "$ref")/contact.txt" 2> /dev/null)"
   while read -r field floor; do args+=(-a "$floor:$field"); done < <(
-    awk -v abs="$abs" '
+    awk -v abs="$abs" -v gScale="${scales% *}" -v stressScale="${scales#* }" '
       BEGIN { split("v_nu v_tau v_x v_y v_tau2 v_z", a); for (k in a) fam[a[k]] = "velocity"
               split("p_nu lambda_nu lambda_tau friction_bound lambda_tau2", a); for (k in a) fam[a[k]] = "stress"
               split("kinetic elastic numerical_dissipation viscous_dissipation contact_dissipation external_work kinetic_jump elastic_jump", a)
               for (k in a) fam[a[k]] = "energy"
               split("normal_force tangential_force tangential_force2", a); for (k in a) fam[a[k]] = "force"
               split("u_x u_y u_z", a); for (k in a) fam[a[k]] = "displacement" }
-      /^# cnu / { cnu = $3 } /^# g / { g = $3 }
       /^#/ { if (!data) { header = $0 }; next }
       { if (!data) { data = 1; nh = split(header, h); for (i = 2; i <= nh; i++) family[i - 1] = fam[h[i]] }
         for (i = 1; i <= NF; i++) if ($i + 0 == $i) { v = $i < 0 ? -$i : $i; if (v == v && v < 1e300 && v > m[i]) m[i] = v; if (i > n) n = i } }
-      END { fm["velocity"] = g + 0; fm["stress"] = cnu * g      # at least the scales of the law: g and p(g)
+      END { fm["velocity"] = gScale + 0; fm["stress"] = stressScale + 0      # at least the scales of the law: g and p(g)
             for (i = 1; i <= n; i++) if (family[i] != "" && m[i] > fm[family[i]]) fm[family[i]] = m[i]
             for (i = 1; i <= n; i++) { s = family[i] != "" ? fm[family[i]] : m[i]; printf "%d %.3e\n", i, (s > 0 ? abs * s : abs) } }' "$ref")
   for field in "$@"; do args+=(-X "1:$field" -X "2:$field"); done

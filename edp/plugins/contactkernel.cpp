@@ -68,7 +68,7 @@
 //       stream kept open until contactKernelCloseNodes() (1 if the file was not written whole)
 //   contactKernelNodal(real[int] v, real[int] Lambda, real[int,int] table)  per node: v_nu,
 //       v_tau, p_nu, lambda_nu, lambda_tau, normal_status, tangential_status, friction_bound,
-//       force scale p(g), zone, v_tau2, lambda_tau2 (0 in 2D)
+//       force scale p(g), zone, v_tau2, lambda_tau2 (0 in 2D), the damped response p(v_nu), g
 //   contactKernelNewton(real[int] cFree, real[int] c, real[int] m, real[int] info)  one step's
 //       Newton from (c, m); returns the iterations, or -1; info = [residual, iterations,
 //       unresolved statuses (Slots::unresolvedStatuses), 1 if the fixed point stalled]
@@ -932,14 +932,14 @@ long nodal(KN<double> *const &pv, KN<double> *const &pLam, KNM<double> *const &p
   nodeVelocities(vv.data(), cv, ov);
   KNM<double> &table = *ptable;
   const int nn = N.nodeX.size();
-  table.resize(nn, 12);
+  table.resize(nn, 14);
   for (int i = 0; i < nn; i++) {
     const NodeValues s = nodeValues(i, ov.data(), lam.data());
     // the force scale p(g) of the node (Slots::setBound), also where it has no slot at all
     const double pg = dampedResponse(L.P, N.nodeG[i]), scale = pg > 0 ? pg : 1.;
-    const double row[12] = {s.vn, s.vt, s.pn, s.ln, s.lt, (double)s.normal, (double)s.tangential, s.bound,
-                            scale, (double)zone(s.normal, s.tangential), s.vt2, s.lt2};
-    for (int k = 0; k < 12; k++) table(i, k) = row[k];
+    const double row[14] = {s.vn, s.vt, s.pn, s.ln, s.lt, (double)s.normal, (double)s.tangential, s.bound,
+                            scale, (double)zone(s.normal, s.tangential), s.vt2, s.lt2, dampedResponse(L.P, s.vn), N.nodeG[i]};
+    for (int k = 0; k < 14; k++) table(i, k) = row[k];
   }
   return 0;
 }
@@ -963,9 +963,9 @@ long appendNodes(string *const &path, const long &n, const double &t, KN<double>
                  KN<double> *const &pz, KNM<double> *const &ptable) {
   KN<double> &x = *px, &y = *py, &z = *pz;
   KNM<double> &table = *ptable;
-  if (x.N() != y.N() || table.N() != x.N() || table.M() < 10) ExecError("contactKernelAppendNodes: wrong argument sizes");
+  if (x.N() != y.N() || table.N() != x.N() || table.M() < 14) ExecError("contactKernelAppendNodes: wrong argument sizes");
   const bool three = N.rowsPerNode == 3;               // 3D: z after y, v_tau2 and lambda_tau2 after the zone
-  if (three && (z.N() != x.N() || table.M() < 12)) ExecError("contactKernelAppendNodes: wrong argument sizes");
+  if (three && z.N() != x.N()) ExecError("contactKernelAppendNodes: wrong argument sizes");
   if (nodesPath != *path) {
     if (closeNodes()) return 1;
     nodesStream.open(*path, std::ios::app);
@@ -979,6 +979,7 @@ long appendNodes(string *const &path, const long &n, const double &t, KN<double>
     for (int k = 0; k < 7; k++) f << " " << table(i, k);
     f << " " << std::lround(table(i, 9));
     if (three) f << " " << table(i, 10) << " " << table(i, 11);
+    f << " " << table(i, 13) << " " << table(i, 7) << " " << table(i, 12) << " " << table(i, 8);   // g, the bound, p(v_nu), p(g)
     f << "\n";
   }
   return f ? 0 : 1;

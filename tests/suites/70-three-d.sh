@@ -156,7 +156,7 @@ for a in 0 30; do
   solve -scene "$work/tilted$a.scene" -mesh "$work/tilted$a.msh" -dt 0.05 -out "$work/tilted$a" >> "$diag" 2>&1 || status=1
 done
 paste <(grep -v '^#' "$work/tilted0/contact.txt") <(grep -v '^#' "$work/tilted30/contact.txt") \
-  | awk 'NF != 22 { bad = 1 } { for (i = 2; i <= 6; i++) { d = $i - $(i + 11); if (d < 0) d = -d; if (d > m) m = d } }
+  | awk 'NF % 2 { bad = 1 } { h = NF / 2; for (i = 2; i <= 6; i++) { d = $i - $(i + h); if (d < 0) d = -d; if (d > m) m = d } }
          END { if (bad || NR == 0 || m > 1e-9) { print "turned by 30 degrees: contact values differ by " m; exit 1 } }' >> "$diag" || status=1
 report $status "an oblique contact boundary: the block turned by 30 degrees has the same v_nu, v_tau, p_nu, lambda_nu, lambda_tau to 1e-9" "$diag"
 
@@ -193,7 +193,7 @@ expect_failure "a contact node whose free component is not a normal velocity" 3 
 # every new key is checked when the scene is read: exit 3 naming the file, line and key
 diag="$work/keys.diag"; : > "$diag"; status=0
 while IFS='|' read -r line regex; do
-  grep -v -E "^(${line%% *}|cnu) " edp/scenes/column.scene > "$work/key.scene"; printf '%s\n' "$line" >> "$work/key.scene"
+  grep -v -E "^(${line%% *}|damping) " edp/scenes/column.scene > "$work/key.scene"; printf '%s\n' "$line" >> "$work/key.scene"
   case "$line" in damping*) ;; *) echo "damping linear 50" >> "$work/key.scene" ;; esac
   rm -rf "$work/key"; rc=0; solve -scene "$work/key.scene" -out "$work/key" > "$work/key.log" 2>&1 || rc=$?
   { [ "$rc" = 3 ] && grep -Eq "key.scene:[0-9]+: .*$regex" "$work/key.log" && [ ! -e "$work/key" ]; } \
@@ -213,13 +213,13 @@ body_force 0|body_force
 initial_velocity 0 nan|initial_velocity
 contact_normal 0 0|contact_normal
 KEYS
-grep -v '^cnu ' edp/scenes/column.scene > "$work/key.scene"; printf 'damping linear 50\nload_history 0 0 1 1\nload_history 0 0 1 2\n' >> "$work/key.scene"
+grep -v -E '^(cnu|damping) ' edp/scenes/column.scene > "$work/key.scene"; printf 'damping linear 50\nload_history 0 0 1 1\nload_history 0 0 1 2\n' >> "$work/key.scene"
 rc=0; solve -scene "$work/key.scene" -out "$work/key" > "$work/key.log" 2>&1 || rc=$?
 [ "$rc" = 3 ] && grep -q "'load_history' is given a second time" "$work/key.log" || { echo "a repeated load_history: exit $rc" >> "$diag"; status=1; }
-printf 'cnu 50\n' >> "$work/key.scene"
+{ grep -v '^damping ' edp/scenes/column.scene; echo 'cnu 50'; } > "$work/key.scene"
 rc=0; solve -scene "$work/key.scene" -out "$work/key" > "$work/key.log" 2>&1 || rc=$?
-[ "$rc" = 3 ] || { echo "cnu and damping linear together: exit $rc" >> "$diag"; status=1; }
+[ "$rc" = 3 ] && grep -q "'cnu' is not a key of a scene: write 'damping linear C'" "$work/key.log" || { echo "cnu in a scene: exit $rc" >> "$diag"; status=1; }
 rc=0; solve -scene tests/scenes/column-table.scene -cnu 30 -out "$work/key" > "$work/key.log" 2>&1 || rc=$?
 [ "$rc" = 2 ] && grep -q "option -cnu gives C of damping linear or power, but the damping of .* is a table" "$work/key.log" || { echo "-cnu with a table: exit $rc" >> "$diag"; status=1; }
-report $status "scene keys: bad load_history, bound_profile, damping, body_force, initial_velocity, contact_normal refused with file, line and key (exit 3); repeats, cnu with damping, -cnu with a table refused" "$diag"
+report $status "scene keys: bad load_history, bound_profile, damping, body_force, initial_velocity, contact_normal refused with file, line and key (exit 3); repeats, the key cnu (one spelling: damping linear C), -cnu with a table refused" "$diag"
 

@@ -17,10 +17,11 @@ here="$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)"
 
 # Debian's python3-matplotlib is installed for /usr/bin/python3 only: use it everywhere.
 PYTHON=/usr/bin/python3
-PACKAGES=(freefem++ libfreefem++ gmsh numdiff python3 python3-numpy python3-matplotlib python3-vtk9 libopenblas0-pthread time
+PACKAGES=(freefem++ libfreefem++ gmsh numdiff python3 python3-numpy python3-matplotlib python3-vtk9 libopenblas0-pthread
           g++ libfreefem++-dev libsuitesparse-dev liblapack-dev libblas-dev)
+BENCH_PACKAGES=(time)                              # only the benchmark needs them (/usr/bin/time: memory)
 
-missing_dependencies() { # missing_dependencies [solve]: "solve" skips what only tests and plots need
+missing_dependencies() { # missing_dependencies [solve|bench]: "solve" skips what only tests and plots need
   command -v FreeFem++-nw >/dev/null 2>&1 || return 0
   [ -f /usr/lib/freefem++/gmsh.so ] && [ -f /usr/lib/freefem++/lapack.so ] || return 0
   command -v gmsh >/dev/null 2>&1 || return 0
@@ -29,7 +30,7 @@ missing_dependencies() { # missing_dependencies [solve]: "solve" skips what only
   command -v numdiff >/dev/null 2>&1 || return 0
   "$PYTHON" -c 'import numpy, matplotlib, vtk' >/dev/null 2>&1 || return 0   # vtk: the tests read -vtk output back
   [ -e /usr/lib/x86_64-linux-gnu/openblas-pthread/libblas.so.3 ] || [ ! -d /usr/lib/x86_64-linux-gnu ] || return 0
-  [ -x /usr/bin/time ] || return 0
+  [ "${1:-}" != bench ] || [ -x /usr/bin/time ] || return 0
   return 1
 }
 
@@ -96,17 +97,19 @@ build_kernel() {
   build_plugin runtools "$(plugin_sources runtools)"
 }
 
-ensure_dependencies() { # ensure_dependencies [solve]
+ensure_dependencies() { # ensure_dependencies [solve|bench]
   if ! missing_dependencies "${1:-}"; then build_kernel; return 0; fi
+  local wanted=("${PACKAGES[@]}")
+  [ "${1:-}" = bench ] && wanted+=("${BENCH_PACKAGES[@]}")
   if [ "$(id -u)" = 0 ]; then
-    echo "run.sh: installing ${PACKAGES[*]}" >&2
+    echo "run.sh: installing ${wanted[*]}" >&2
     export DEBIAN_FRONTEND=noninteractive
-    apt-get update -q >&2 && apt-get install -y -q "${PACKAGES[@]}" >&2
-    if missing_dependencies; then echo "run.sh: error: dependencies still missing after apt-get install" >&2; exit 1; fi
+    apt-get update -q >&2 && apt-get install -y -q "${wanted[@]}" >&2
+    if missing_dependencies "${1:-}"; then echo "run.sh: error: dependencies still missing after apt-get install" >&2; exit 1; fi
     build_kernel
   else
     echo "run.sh: error: missing dependencies; install them with:" >&2
-    echo "  sudo apt-get update && sudo apt-get install -y ${PACKAGES[*]}" >&2
+    echo "  sudo apt-get update && sudo apt-get install -y ${wanted[*]}" >&2
     exit 1
   fi
 }
@@ -217,8 +220,8 @@ case "$command" in
   solve) refuse_freefem_arguments "$@"; ensure_dependencies solve; exec "${FREEFEM[@]}" "$here/edp/solve.edp" "$@" ;;   # a signal reaches the solve
   compare) refuse_freefem_arguments "$@"; ensure_dependencies solve; exec "${FREEFEM[@]}" "$here/edp/compare.edp" "$@" ;;
   test) ensure_dependencies; exec bash "$here/tests/run_tests.sh" "$@" ;;
-  bench) ensure_dependencies; exec bash "$here/tests/bench.sh" "$@" ;;
-  stability) ensure_dependencies; exec bash "$here/tests/stability.sh" "$@" ;;
+  bench) ensure_dependencies bench; exec bash "$here/plots/bench.sh" "$@" ;;
+  stability) ensure_dependencies; exec bash "$here/plots/stability.sh" "$@" ;;
   figures) ensure_dependencies
     # A folder (an existing one, or a path with a '/') means run folders; otherwise figure names.
     if [ $# -gt 0 ] && { [ -d "$1" ] || [[ "$1" == */* ]]; }; then exec "$PYTHON" "$here/plots/run_figures.py" "$@"; fi

@@ -1,7 +1,7 @@
 #!/usr/bin/python3
-"""Tables and charts of the benchmark (tests/bench.sh, ./run.sh bench).
+"""Tables and charts of the benchmark (plots/bench.sh, ./run.sh bench).
 
-Reads the run folders DIR/runs/NAME that tests/bench.sh makes (summary.txt of edp/solve.edp,
+Reads the run folders DIR/runs/NAME that plots/bench.sh makes (summary.txt of edp/solve.edp,
 NAME.time with the wall seconds and peak memory of the process, NAME.error and
 NAME.solver_error from edp/compare.edp) and writes into DIR
   steps.txt, steps_adapted.txt, steps3d.txt, iterations.txt, work_precision.txt   (plain text, '#' header

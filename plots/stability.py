@@ -1,9 +1,9 @@
 #!/usr/bin/python3
-"""Stability maps of tests/stability.sh: where each contact solver converges and how it fails.
+"""Stability maps of plots/stability.sh: where each contact solver converges and how it fails.
 
-One function per map; each reads one table written by tests/stability_tables.py
+One function per map; each reads one table written by plots/stability_tables.py
 (results/stability/SWEEP.txt, by column name) and writes stability_NAME.png. Every cell
-is one run: its colour is the failure mode (tests/stability_tables.py), its text the
+is one run: its colour is the failure mode (plots/stability_tables.py), its text the
 mean / max iterations per step when it converged, or the failing step (s7) and the cycle
 period (p2) when it did not. Usage:
   stability.py --results DIR --out DIR [NAME ...]     (NAME: see MAPS; default all)

@@ -16,7 +16,7 @@ done
 
 # ---- the fixed point solves the same discrete problem as Newton: the paper scene at the
 # defaults (the blessed cases' runs), then points of our own that no sweep of
-# tests/stability.sh runs (other scenes, r, meshes, time steps), for both solvers; where
+# plots/stability.sh runs (other scenes, r, meshes, time steps), for both solvers; where
 # neither can converge, both fail loudly
 for problem in original penalty; do
   diag="$work/fixedpoint-$problem.diag"; : > "$diag"; status=0

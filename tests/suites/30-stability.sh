@@ -5,7 +5,7 @@
 # the defaults on the corners of the paper's parameter box
 diag="$work/stability.diag"; : > "$diag"; status=0
 rm -rf "$work/stability"
-if RESULTS_DIR="$work" bash tests/stability.sh --quick > "$diag" 2>&1; then
+if RESULTS_DIR="$work" bash plots/stability.sh --quick > "$diag" 2>&1; then
   line=$(grep -o 'agreement [0-9]*/[0-9]* pairs.*hopeless settings failing loudly [0-9]*/[0-9]*' "$diag" | tail -1)
   agree=$(echo "$line" | sed -n 's/agreement \([0-9]*\)\/\([0-9]*\) pairs.*/\1 \2/p')
   loud=$(echo "$line" | sed -n 's/.*failing loudly \([0-9]*\)\/\([0-9]*\)/\1 \2/p')

@@ -44,7 +44,7 @@ cmp_variant() {
   solve -scene "$work/$name.scene" "$@" -out "$work/$name" >> "$diag" 2>&1 || { echo "the variant $name did not run" >> "$diag"; status=1; }
 }
 
-# what the benchmark compares (tests/bench.sh): another time step, a -mesh (here the
+# what the benchmark compares (plots/bench.sh): another time step, a -mesh (here the
 # reference's own mesh) with the penalty problem at another eps, -tol, -solver full, -r, an
 # explicit default (-plane stress), an adapted mesh as the run and as the reference; and a
 # coarse mesh of the curved cylinder against a fine one (the domain check's tolerance)

@@ -1,5 +1,5 @@
 #!/usr/bin/python3
-"""Tables of tests/stability.sh: one line per point, the cross-method agreement, the
+"""Tables of plots/stability.sh: one line per point, the cross-method agreement, the
 hopeless settings and a summary, from the records runs/SWEEP/ID.rec and the summary.txt
 of each converged run.
 
@@ -43,7 +43,7 @@ COLUMNS = ("id method problem solver safeguard penaltyform nx ny T dt mu load ep
 
 
 def read_record(path):
-    """One record ID.rec of tests/stability.sh ('key=value' lines), with the options of its
+    """One record ID.rec of plots/stability.sh ('key=value' lines), with the options of its
     run: given (from its command line) and opts (all of them, suite.effective_options)."""
     record = suite.Values(path)
     for line in suite.read_lines(path):
@@ -155,7 +155,7 @@ def build_rows(results):
 
 
 def write_sweep(path, rows, title):
-    suite.write_table(path, [title, "written by tests/stability_tables.py from runs/*/*.rec; mode: see its docstring;",
+    suite.write_table(path, [title, "written by plots/stability_tables.py from runs/*/*.rec; mode: see its docstring;",
                              "iter_mean = iterations_total/steps, iter_max = iterations_max (converged runs);",
                              "fail_*: the failing step, its iteration count and residual; half_residual: the residual",
                              "of the same step with -maxit cap/2; period: of an exact cycle (0 none); wall_s: seconds"],
@@ -271,7 +271,7 @@ def command_line(row):
 
 
 def write_summary(path, rows, pairs, hopeless_checks, results):
-    lines = ["# tests/stability.sh summary (tests/stability_tables.py)"]
+    lines = ["# plots/stability.sh summary (plots/stability_tables.py)"]
     sweeps = sorted({r["sweep"] for r in rows})
     lines.append(f"points {len(rows)}")
     lines.append(f"converged {sum(r['mode'] == 'ok' for r in rows)}")

@@ -4,7 +4,7 @@
 # and maps of docs/stability.md.
 #
 # Usage (from anywhere; the environment of run.sh is set here when missing):
-#   tests/stability.sh [--quick] [--jobs N]
+#   plots/stability.sh [--quick] [--jobs N]
 #     --quick    a few points per sweep (under a minute on 2 cores; the tests call it)
 #     --jobs N   solves run in parallel (default 2)
 #     --list     print the points (SWEEP ID TIMEOUT OPTIONS...) and exit
@@ -28,7 +28,7 @@
 #                        its outputs in the agreement sweep, for tests/check_results.py)
 #   runs/SWEEP/ID.rec    one record per point: options, exit code, wall time, message,
 #                        the probes of a failure at the iteration cap
-#   SWEEP.txt, agreement.txt, hopeless.txt, summary.txt   (tests/stability_tables.py)
+#   SWEEP.txt, agreement.txt, hopeless.txt, summary.txt   (plots/stability_tables.py)
 #   maps/stability_*.png (plots/stability.py)
 #   timing.txt           wall time of the sweeps and of the whole script
 # A failure at the iteration cap is probed by re-running the point with -maxit cap-1 ...
@@ -43,7 +43,7 @@ cd "$root"
 export FF_LOADPATH="${FF_LOADPATH:-/usr/lib/freefem++}"
 export OPENBLAS_NUM_THREADS="${OPENBLAS_NUM_THREADS:-1}"
 export MPLBACKEND=Agg
-export PYTHONPATH="$root/plots${PYTHONPATH:+:$PYTHONPATH}"   # plots/suite.py
+export PYTHONPATH="$root/plots:$root/tests${PYTHONPATH:+:$PYTHONPATH}"   # plots/suite.py; tests/check_results.py (its Checker)
 PYTHON="${PYTHON:-/usr/bin/python3}"
 out="${RESULTS_DIR:-$root/results}/stability"
 runs="$out/runs"
@@ -291,11 +291,11 @@ echo "stability: $total points, $jobs at a time, results in $out"
 xargs -P "$jobs" -L 1 bash "$0" --point < "$out/points.list"
 sweeps_end=$(date +%s.%N)
 status=0
-"$PYTHON" tests/stability_tables.py --results "$out" || status=1
+"$PYTHON" plots/stability_tables.py --results "$out" || status=1
 "$PYTHON" plots/stability.py --results "$out" --out "$out/maps" || status=1
 end=$(date +%s.%N)
 {
-  echo "# wall time of tests/stability.sh (seconds)"
+  echo "# wall time of plots/stability.sh (seconds)"
   echo "# key value"
   echo "mode $([ "$quick" = 1 ] && echo quick || echo full)"
   echo "jobs $jobs"

@@ -128,7 +128,7 @@ solve() { "${FREEFEM[@]}" "$here/edp/solve.edp" "$@"; }
 # FreeFem++ reads an argument that starts with '-' or 'D' and has its first '=' after its fourth
 # character as a macro definition, wherever it stands: a value of the user's (a file named
 # "-DNAME=...") would change the script. Refused here before FreeFEM starts (and again by
-# edp/plugins/runtools.cpp, for FreeFem++ started by hand).
+# edp/plugins/runtools/spawn.cpp, for FreeFem++ started by hand).
 # FreeFem++ also reads its own options wherever they stand, before any script or plugin runs
 # (-f runs another script, -glut a program, -fglut truncates a file, -check_plugin loads a
 # library, ...): refused here too (runtools refuses them when it is loaded, too late for

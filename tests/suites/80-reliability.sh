@@ -65,7 +65,7 @@ rc=0; solve "${coarse[@]}" -out "$d" >> "$diag" 2>&1 || rc=$?
 [ -f "$d/notes.txt" ] && cmp -s "$d/contact.txt" "$work/userfiles.contact" || { echo "the folder with the user's notes changed" >> "$diag"; status=1; }
 rm "$d/notes.txt"; cp -r "$d" "$d.copy"; rm "$d.copy/run.complete"
 rc=0; solve "${coarse[@]}" -out "$d.copy" >> "$diag" 2>&1 || rc=$?
-[ "$rc" = 7 ] && contains "$diag" "holds a summary.txt but no run.complete" && [ -f "$d.copy/summary.txt" ] || status=1
+[ "$rc" = 7 ] && contains "$diag" "does not hold results of this suite \(no run.complete\)" && [ -f "$d.copy/summary.txt" ] || status=1
 report $status "data loss: the user's D.old, D.partial, D.replaced and files in D are never touched; D without run.complete is not replaced" "$diag"
 
 # a file put into OUT between the run's last check of OUT and the swap (written there by an

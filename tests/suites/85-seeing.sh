@@ -70,10 +70,21 @@ bash tests/lab.sh "$work/lab.log" > "$diag" 2>&1
 report $? "docs/lab.md: every command of the lab sheet runs, and gives the numbers the sheet states" "$diag"
 # ---- end lab
 
-# ---- the figures' names: plots/suite.py (FIGURES_DRAWN) and edp/plugins/runtools.cpp (figuresDrawn) list the same
-diag="$work/names.diag"; : > "$diag"
-py_names=$("$PYTHON" -c 'import suite; print(" ".join(sorted(suite.FIGURES_DRAWN)))' 2>> "$diag")
-cpp_names=$(sed -n '/^bool figuresDrawn/,/^}/p' edp/plugins/runtools.cpp | grep -o '"[a-zA-Z_]*\.[a-z0-9]*"' | tr -d '"' | sort | tr '\n' ' ' | sed 's/ $//')
-echo "plots/suite.py: $py_names; runtools.cpp: $cpp_names" >> "$diag"
-[ -n "$py_names" ] && [ "$py_names" = "$cpp_names" ]; report $? "the names of the figures drawn: the same list in plots/suite.py and edp/plugins/runtools.cpp" "$diag"
-
+# ---- the figures' names: edp/figures.txt is the one list. In a copy of edp/ with one name more,
+# a figure of that name that figures.list names goes with its run; one not in the file keeps
+# the folder from being replaced (exit 7)
+diag="$work/names.diag"; : > "$diag"; status=0
+names="$work/names"; rm -rf "$names" "$names-out" && mkdir -p "$names/meshes" && cp -r edp "$names/" && cp meshes/*.geo "$names/meshes/"
+echo "extra.png" >> "$names/edp/figures.txt"
+signature="# figures.list: the figures plots/ of this suite drew here; they go with the run's results"   # plots/suite.py writes it
+"${FREEFEM[@]}" "$names/edp/solve.edp" "${coarse[@]}" -out "$names-out" >> "$diag" 2>&1 || status=1
+for figure in extra.png other.png; do
+  mkdir -p "$names-out/figures" && : > "$names-out/figures/$figure" && printf '%s\n%s\n' "$signature" "$figure" > "$names-out/figures/figures.list"
+  rc=0; "${FREEFEM[@]}" "$names/edp/solve.edp" "${coarse[@]}" -out "$names-out" >> "$diag" 2>&1 || rc=$?
+  case "$figure:$rc" in
+    extra.png:0) [ ! -e "$names-out/figures" ] || { echo "figures/extra.png stayed" >> "$diag"; status=1; } ;;
+    other.png:7) grep -q "holds files that this suite did not write there (figures/other.png)" "$diag" || status=1 ;;
+    *) echo "$figure: exit $rc" >> "$diag"; status=1 ;;
+  esac
+done
+report $status "the figures' names: runtools follows edp/figures.txt (a name added there goes with its run, another blocks it)" "$diag"

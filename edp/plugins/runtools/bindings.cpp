@@ -1,0 +1,91 @@
+// bindings.cpp: the plugin as FreeFEM loads it (load "runtools", the first line of solve.edp
+// and compare.edp): the signal and exit handlers and the command-line guard, at once, then the
+// functions the scripts call, each with its file. The only file that includes FreeFEM's headers.
+#include "ff++.hpp"
+#include "AFunction_ext.hpp"
+#include "runtools.hpp"
+#include <chrono>
+#include <cmath>
+#include <cstdlib>
+#include <unistd.h>
+
+namespace runtools {
+namespace {
+
+// FreeFEM has no wall clock (its clock() is CPU time): progress lines and the pilot runs' timing
+double runWallClock() {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
+}
+long runProcessId() { return (long)getpid(); }
+// the seconds an environment variable gives (a number >= 0), -1 when it is unset or empty;
+// another value is refused (exit 2) rather than read as 0
+double runEnvironmentSeconds(string *const &name) {
+  const char *text = std::getenv(name->c_str());
+  if (!text || !*text) return -1;
+  char *end = nullptr;
+  const double value = std::strtod(text, &end);
+  if (!*text || *end || !std::isfinite(value) || value < 0)
+    fail(2, "the environment variable " + *name + " = '" + text + "' is not a number of seconds >= 0");
+  return value;
+}
+
+// Global.Add for a function of 0 to 3 arguments, its FreeFEM operator from its type
+template <class R> void add(const char *name, R (*f)()) { Global.Add(name, "(", new OneOperator0<R>(f)); }
+template <class R, class A> void add(const char *name, R (*f)(const A &)) { Global.Add(name, "(", new OneOperator1_<R, A>(f)); }
+template <class R, class A, class B> void add(const char *name, R (*f)(const A &, const B &)) {
+  Global.Add(name, "(", new OneOperator2_<R, A, B>(f));
+}
+template <class R, class A, class B, class C> void add(const char *name, R (*f)(const A &, const B &, const C &)) {
+  Global.Add(name, "(", new OneOperator3_<R, A, B, C>(f));
+}
+
+}  // namespace
+}  // namespace runtools
+
+static void Load_Init() {
+  using namespace runtools;
+  installSignalHandlers();                         // from the start: a signal at any moment removes what the run created
+  std::atexit(onExit);
+  checkCommandLine();                              // before any code of the script runs
+  // messages.cpp: exit codes 2 option, 3 scene, mesh or suite file, 7 output folder or file
+  add("runError", runError);                       // (code, message): remove what the run created, "error: message", exit code
+  add("runNote", runNote);                         // (message): one line on the standard error
+  add("runControlCharacter", runControlCharacter); // (text): 1 if it holds a control character or a line separator
+  add("runNotUtf8", runNotUtf8);                   // (text): 1 if it is not valid UTF-8
+  // here
+  add("runWallClock", runWallClock);               // (): wall-clock seconds (steady clock)
+  add("runProcessId", runProcessId);               // (): this process's id
+  add("runEnvironmentSeconds", runEnvironmentSeconds);   // (name): the seconds it gives, -1 if unset
+  // runfolder.cpp: the run folder (docs/design.md, "Output files")
+  add("runFigureNames", runFigureNames);           // (path): the figures a run folder's figures/ may hold (edp/figures.txt)
+  add("runFolderOpen", runFolderOpen);             // (out): lock OUT, check it may be replaced, make OUT.partial.<pid>
+  add("runFolderFinish", runFolderFinish);         // (): run.complete, then OUT.partial.<pid> exchanged with OUT
+  // files.cpp
+  add("runCreateFile", runCreateFile);             // (path): an empty file, or exit 7
+  add("runFileComplete", runFileComplete);         // (path, lines): exactly that many complete lines, on the disk, or exit 7
+  add("runFileReadable", runFileReadable);         // (path): 1 if a regular file this process can read
+  add("runFileLines", runFileLines);               // (path): its line feeds, -1 if unreadable
+  add("runChecksum", runChecksum);                 // (path): its POSIX cksum, -1 if unreadable
+  add("runCacheIntact", runCacheIntact);           // (path): 1 if PATH.cksum holds its checksum
+  add("runByteOrderMark", runByteOrderMark);       // (path): 3 if it starts with a UTF-8 byte order mark, else 0
+  add("runOnlyCarriageReturns", runOnlyCarriageReturns);   // (path): 1 if its line ends are carriage returns only
+  add("runCopyFile", runCopyFile);                 // (from, to): 0, or 1 (no partial copy left)
+  add("runRename", runRename);                     // (from, to): 0, or 1
+  add("runRemoveFile", runRemoveFile);             // (path): 0, or 1
+  add("runRemoveFolder", runRemoveFolder);         // (path): the folder and all it holds
+  add("runMakeFolders", runMakeFolders);           // (path): mkdir -p; 0, or 1
+  // spawn.cpp
+  add("runGmsh", runGmsh);                         // (geo, out, "NAME VALUE ..."): gmsh's exit status, 127 if it cannot start
+  add("runFreeFem", runFreeFem);                   // (program, arguments one a line, log): a pilot run's exit status
+  add("runRestartWith", runRestartWith);           // (argument): this program again with it; returns 1 only if that fails
+  // meshcheck.cpp, samedomain.cpp
+  Global.Add("runCheckMesh", "(", new OneOperator6_<long, string *, string *, string *, string *, string *, long>(runCheckMesh));
+  //   (in, out, required, dirichlet, what, fatal): an MSH 2.2 file checked and written to out; exit 3, or 1 when not fatal
+  add("runMeshExtentRatio", runMeshExtentRatio);   // (): 1e8, the largest extent / shortest edge of a mesh
+  add("runMeshDimension", runMeshDimension);       // (path): 3 if the mesh has tetrahedra, 2 if not, 0 if unreadable
+  add("runGeoDimension", runGeoDimension);         // (path): 3 if the .geo defines a Physical Volume, else 2
+  add("runMeshLacksLabel", runMeshLacksLabel);     // (path, labels): the first label no boundary element carries, or -1
+  add("runSameDomain", runSameDomain);             // (a, b): exit 2 unless the meshes cover one domain with the same labels
+}
+
+LOADFUNC(Load_Init)

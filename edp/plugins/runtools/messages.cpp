@@ -1,0 +1,168 @@
+// messages.cpp: how a run says what went wrong, and how it stops. Every failure with exit 2
+// to 9 is one line "error: MESSAGE" on the standard error (docs/design.md, "Exit codes and
+// failure messages"); a signal or FreeFEM's own exit() still removes what the run created.
+#include "runtools.hpp"
+#include <cerrno>
+#include <csignal>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <iostream>
+#include <unistd.h>
+
+namespace runtools {
+
+// FreeFEM points std::cerr at the standard output, which a caller may keep for results: the
+// standard error is file descriptor 2 itself
+void toStderr(const std::string &text) {
+  std::fflush(nullptr);
+  std::fputs(text.c_str(), stderr);
+  std::fflush(stderr);
+}
+
+std::string errorText() { return std::strerror(errno); }
+
+// the length of the UTF-8 sequence that starts at s[i] (1 to 4 bytes), or 0 if the bytes there
+// are not one (a stray continuation byte, an overlong form, a surrogate, beyond U+10FFFF)
+size_t utf8Length(const std::string &s, size_t i) {
+  const unsigned char c = s[i];
+  if (c < 0x80) return 1;
+  const size_t n = c >= 0xC2 && c <= 0xDF ? 2 : (c >= 0xE0 && c <= 0xEF ? 3 : (c >= 0xF0 && c <= 0xF4 ? 4 : 0));
+  if (n == 0 || i + n > s.size()) return 0;
+  for (size_t k = 1; k < n; k++) if (((unsigned char)s[i + k] & 0xC0) != 0x80) return 0;
+  const unsigned char second = s[i + 1];
+  if ((c == 0xE0 && second < 0xA0) || (c == 0xED && second > 0x9F) || (c == 0xF0 && second < 0x90) || (c == 0xF4 && second > 0x8F))
+    return 0;
+  return n;
+}
+// a name the suite's own tools could not read back, nor show, is refused
+bool validUtf8(const std::string &s) {
+  for (size_t i = 0; i < s.size();) { const size_t n = utf8Length(s, i); if (n == 0) return false; i += n; }
+  return true;
+}
+
+// Control characters (below 0x20, 0x7F, U+0080 to U+009F with U+0085) and the Unicode line and
+// paragraph separators U+2028, U+2029 each end a line for some reader of the outputs (Python's
+// splitlines, for one), which echo the option values: no value may hold one.
+bool hasControlCharacter(const std::string &text) {
+  for (size_t i = 0; i < text.size(); i++) {
+    const unsigned char c = text[i], next = i + 1 < text.size() ? text[i + 1] : 0, third = i + 2 < text.size() ? text[i + 2] : 0;
+    if (c < 0x20 || c == 0x7F || (c == 0xC2 && next >= 0x80 && next <= 0x9F) || (c == 0xE2 && next == 0x80 && (third == 0xA8 || third == 0xA9)))
+      return true;
+  }
+  return false;
+}
+
+// A message echoes values of the user's, which may hold anything: bytes that are not UTF-8 and
+// control characters (but line ends) are shown as \xHH, so that a terminal shows them and does
+// not act on them; a word (a value, a path) longer than longWord bytes is cut in its middle,
+// with its length, and a message longer than longMessage bytes too: a megabyte value is not
+// echoed whole.
+const size_t longWord = 160, longMessage = 1200;
+std::string shown(const std::string &text) {
+  std::string out, word;
+  auto flush = [&]() {
+    if (word.size() > longWord) {
+      size_t head = 100, tail = 40;
+      while (head > 0 && ((unsigned char)word[head] & 0xC0) == 0x80) head--;   // cut between characters
+      while (tail > 0 && ((unsigned char)word[word.size() - tail] & 0xC0) == 0x80) tail--;
+      word = word.substr(0, head) + "...(" + std::to_string(word.size()) + " bytes)..." + word.substr(word.size() - tail);
+    }
+    out += word; word.clear();
+  };
+  for (size_t i = 0; i < text.size();) {
+    const unsigned char c = text[i];
+    const size_t n = utf8Length(text, i);
+    if (c == ' ' || c == '\n') { flush(); out += (char)c; i++; continue; }
+    if (n == 0 || c < 0x20 || c == 0x7F) {
+      char hex[8]; std::snprintf(hex, sizeof hex, "\\x%02X", (unsigned)c); word += hex; i++; continue;
+    }
+    word += text.substr(i, n); i += n;
+  }
+  flush();
+  if (out.size() > longMessage) {
+    size_t head = 800, tail = 300;
+    while (head > 0 && ((unsigned char)out[head] & 0xC0) == 0x80) head--;
+    while (tail > 0 && ((unsigned char)out[out.size() - tail] & 0xC0) == 0x80) tail--;
+    out = out.substr(0, head) + " ...(" + std::to_string(out.size() - head - tail) + " bytes cut)... " + out.substr(out.size() - tail);
+  }
+  return out;
+}
+
+// _Exit: FreeFEM's exit handlers would print trace lines after the message
+[[noreturn]] void fail(int code, const std::string &message) {
+  std::cout.flush();
+  cleanUp();
+  if (!message.empty()) toStderr("error: " + shown(message) + "\n");
+  std::fflush(nullptr);
+  std::_Exit(code);
+}
+
+long runError(const long &code, std::string *const &message) { fail((int)code, *message); }
+// progress and the Newton log: unbuffered, so that they interleave with FreeFEM's own output
+long runNote(std::string *const &message) {
+  toStderr(shown(*message) + "\n");
+  return 0;
+}
+long runControlCharacter(std::string *const &text) { return hasControlCharacter(*text) ? 1 : 0; }
+long runNotUtf8(std::string *const &text) { return validUtf8(*text) ? 0 : 1; }
+
+// ---------------------------------------------------------------- signals and FreeFEM's exit()
+namespace {
+
+// a crash is a bug, or too little memory: FreeFEM does not check every allocation
+const char *crashName(int signal) {
+  switch (signal) {
+    case SIGSEGV: return "SIGSEGV"; case SIGBUS: return "SIGBUS"; case SIGFPE: return "SIGFPE"; case SIGILL: return "SIGILL";
+    case SIGABRT: return "SIGABRT"; case SIGTRAP: return "SIGTRAP"; case SIGSYS: return "SIGSYS"; default: return nullptr;
+  }
+}
+void say(const char *text) { if (write(2, text, std::strlen(text)) < 0) {} }
+
+// System calls only (the run may be stopped anywhere, inside malloc too). Then the signal's
+// default action, so that the caller sees the exit status 128 + signal.
+void onSignal(int signal) {
+  const bool removed = cleanUp();
+  if (signal == SIGXFSZ) {                         // a file could not be written: the output folder's exit code
+    say("error: a file of the run grew past the file-size limit (ulimit -f; SIGXFSZ)");
+    say(removed ? ": the run removed its unfinished output folder\n" : "\n");
+    _exit(7);
+  }
+  const char *crash = crashName(signal);
+  if (crash) { say("error: the run crashed ("); say(crash); say(": a bug, or too little memory)"); }
+  else say("interrupted");
+  say(removed ? ": the run removed its unfinished output folder\n" : "\n");
+  struct sigaction action = {};
+  action.sa_handler = SIG_DFL;
+  sigaction(signal, &action, nullptr);
+  raise(signal);                                   // blocked in here: delivered on return
+}
+
+}  // namespace
+
+// Every signal that ends a process, from the plugin's load on. The handler runs on a stack of
+// its own, so that a stack overflow (SIGSEGV) is handled too. A closed standard output
+// (SIGPIPE) does not stop a run: its results go to files.
+void installSignalHandlers() {
+  static char alternate[1 << 18];                  // removeTree's buffers, 8 folder levels deep
+  stack_t stack = {};
+  stack.ss_sp = alternate;
+  stack.ss_size = sizeof alternate;
+  sigaltstack(&stack, nullptr);
+  struct sigaction action = {};
+  action.sa_handler = onSignal;
+  action.sa_flags = SA_ONSTACK | SA_RESTART;
+  sigemptyset(&action.sa_mask);
+  for (int signal : {SIGINT, SIGTERM, SIGHUP, SIGQUIT, SIGUSR1, SIGUSR2, SIGALRM, SIGVTALRM, SIGPROF, SIGXCPU, SIGXFSZ,
+                     SIGSEGV, SIGBUS, SIGFPE, SIGILL, SIGABRT, SIGTRAP, SIGSYS})
+    sigaction(signal, &action, nullptr);
+  std::signal(SIGPIPE, SIG_IGN);
+}
+
+// FreeFEM's own errors (a failed assert, an error raised by a FreeFEM function or a plugin) end
+// the program through exit(), after its own message: what the run created goes then, too.
+void onExit() {
+  if (cleanUp()) say("note: the run stopped on an error (above); it removed its unfinished output folder\n");
+}
+
+}  // namespace runtools

@@ -1,0 +1,146 @@
+// spawn.cpp: other programs, without a shell (an argument vector: a value of the user's is never
+// read as a command): gmsh, the pilot runs of -adapt, the restart of a 3D run with
+// -Ddimension=3. Also the guard against command-line arguments FreeFem++ itself would act on,
+// which the plugin runs as it is loaded (docs/design.md, "Command line").
+#include "runtools.hpp"
+#include <cerrno>
+#include <csignal>
+#include <cstdio>
+#include <cstdlib>
+#include <fcntl.h>
+#include <fstream>
+#include <set>
+#include <sstream>
+#include <sys/prctl.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+namespace runtools {
+
+namespace {
+// The child's standard output and error go into log. The child stops with the run: the signal
+// handler kills it (runningChild), and PR_SET_PDEATHSIG kills it when the run dies otherwise,
+// even from SIGKILL. Returns its exit status, 128 + the signal that ended it, or 127 when it
+// could not be started.
+int spawnAndWait(const std::string &file, const std::vector<std::string> &args, const std::string &log = "/dev/null") {
+  std::vector<char *> argv;
+  for (auto &a : args) argv.push_back(const_cast<char *>(a.c_str()));
+  argv.push_back(nullptr);
+  const pid_t parent = getpid();
+  const pid_t child = fork();
+  if (child < 0) return 127;
+  if (child == 0) {                                // system calls only until exec
+    prctl(PR_SET_PDEATHSIG, SIGKILL);
+    if (getppid() != parent) _exit(127);           // the run died before prctl
+    const int fd = open(log.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+    if (fd < 0) _exit(127);
+    dup2(fd, 1); dup2(fd, 2);
+    if (fd > 2) close(fd);
+    execvp(file.c_str(), argv.data());
+    _exit(127);
+  }
+  runningChild = child;
+  int status = 0;
+  while (waitpid(child, &status, 0) < 0 && errno == EINTR) {}
+  runningChild = 0;
+  return WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
+}
+
+std::vector<std::string> ownArguments() {
+  std::ifstream f("/proc/self/cmdline", std::ios::binary);
+  std::vector<std::string> args;
+  std::string arg;
+  while (std::getline(f, arg, '\0')) args.push_back(arg);
+  return args;
+}
+
+// CONTACT_SUITE_RESTART = this process's id marks the restart's own -Ddimension=3
+const char *restartVariable = "CONTACT_SUITE_RESTART";
+
+// FreeFem++'s lexer reads an argument that starts with '-' or 'D' and whose first '=' comes
+// after its fourth character as a macro definition, named by its characters from the third to
+// that '=' ("-DexportSystem=..." but also "Dxcout=..."), wherever it stands
+bool freefemMacro(const std::string &a) {
+  if (a.empty() || (a[0] != '-' && a[0] != 'D')) return false;
+  const size_t equal = a.find('=');
+  return equal != std::string::npos && equal > 3;
+}
+// FreeFem++'s own options (its getprog), read wherever they stand too; run.sh's list is the same
+bool freefemOption(const std::string &a, bool &takesValue) {
+  static const std::set<std::string> withValue = {"-v", "-f", "-fglut", "-glut", "-gff", "-check_plugin"};
+  static const std::set<std::string> alone = {"-nw", "-ng", "-wg", "-md", "-ne", "-cd", "-cdtmp", "-jc", "-ns", "-nowait",
+                                              "-nc", "-log", "-wait", "-?"};
+  takesValue = withValue.count(a) > 0;
+  return takesValue || alone.count(a) > 0;
+}
+}  // namespace
+
+// An option value of the user's that reads like a macro or an option of FreeFem++ (a file
+// named "-DNAME=...") would change the script or run FreeFEM code: every such argument is
+// refused (exit 2) as the plugin is loaded, on the script's first line, before any code of it
+// runs. The restart's own argument is the one exception.
+void checkCommandLine() {
+  const std::vector<std::string> args = ownArguments();
+  const char *marker = std::getenv(restartVariable);
+  const bool restarted = marker && std::string(marker) == std::to_string(getpid());
+  unsetenv(restartVariable);                       // not for the processes this run starts
+  size_t script = 0;                               // the script: FreeFEM's first argument that is not its option
+  for (size_t i = 1; i < args.size() && script == 0; i++) {
+    bool takesValue = false;
+    if (freefemOption(args[i], takesValue)) i += takesValue;
+    else if (!freefemMacro(args[i])) script = i;
+  }
+  for (size_t i = 1; i < args.size(); i++) {
+    const std::string &a = args[i];
+    bool takesValue = false;
+    if (restarted && i + 1 == args.size() && a == "-Ddimension=3") continue;
+    if (freefemMacro(a))
+      fail(2, "the argument '" + a + "' would be read by FreeFem++ as a macro definition (an argument that starts with '-' or 'D' "
+              + "and has an '=' after its fourth character, wherever it stands), which could change the script: the suite refuses it"
+              + (i > script && script > 0 && i > 1 && args[i - 1][0] == '-' ? " (as the value of " + args[i - 1] + ": rename that file or folder)" : ""));
+    if (script > 0 && i > script && freefemOption(a, takesValue))
+      fail(2, "the argument '" + a + "' is an option of FreeFem++ itself, which it reads wherever it stands: give it before the "
+              + "script, or, as a value of an option of the suite, rename that file or folder");
+  }
+}
+
+// ---------------------------------------------------------------- the FreeFEM functions
+// gmsh -2 (-3 for a .geo with a Physical Volume) -format msh22 -v 0 -setnumber NAME VALUE ...
+// GEO -o OUT; the mesh it writes is removed if the run fails meanwhile
+long runGmsh(std::string *const &geo, std::string *const &out, std::string *const &numbers) {
+  std::vector<std::string> args = {"gmsh", runGeoDimension(geo) == 3 ? "-3" : "-2", "-format", "msh22", "-v", "0"};
+  std::stringstream in(*numbers);
+  std::string name, value;
+  while (in >> name >> value) { args.push_back("-setnumber"); args.push_back(name); args.push_back(value); }
+  args.push_back(*geo); args.push_back("-o"); args.push_back(*out);
+  rememberTemporary(*out);
+  return spawnAndWait("gmsh", args);
+}
+
+// a pilot run of -adapt: this FreeFEM program as it was started (FreeFem++-nw and FreeFem++
+// are one binary that reads its own name), the arguments one a line, its output into log
+long runFreeFem(std::string *const &program, std::string *const &arguments, std::string *const &log) {
+  std::vector<std::string> args = {*program};
+  std::stringstream in(*arguments);
+  std::string line;
+  while (std::getline(in, line)) args.push_back(line);
+  return spawnAndWait(*program, args, *log);
+}
+
+// A 3D scene needs the script read again with -Ddimension=3, a macro definition, which only
+// the command line can give: this program again, in this process (execv), with the same
+// arguments and that one. Returns only if that fails (1).
+long runRestartWith(std::string *const &extra) {
+  std::vector<std::string> args = ownArguments();
+  if (args.empty()) return 1;
+  args.push_back(*extra);
+  setenv(restartVariable, std::to_string(getpid()).c_str(), 1);
+  std::vector<char *> argv;
+  for (auto &a : args) argv.push_back(const_cast<char *>(a.c_str()));
+  argv.push_back(nullptr);
+  std::fflush(nullptr);
+  execv("/proc/self/exe", argv.data());
+  return 1;
+}
+
+}  // namespace runtools

@@ -49,16 +49,10 @@ kernel_buildable() {
 }
 # plugin_sources FOLDER [HEADER...]: the sources of a plugin, relative to edp/plugins, in the
 # order of its checksum: the headers given (the kernel's law), then the folder's headers and
-# C++ files, sorted (or FOLDER.cpp alone, a plugin of one file)
+# C++ files, sorted
 plugin_sources() {
   local folder="$1"; shift
-  local list="$*"
-  if [ -d "$PLUGINS/$folder" ]; then
-    list="$list $(cd "$PLUGINS" && LC_ALL=C ls -1 "$folder"/*.hpp "$folder"/*.cpp 2> /dev/null | tr '\n' ' ')"
-  else
-    list="$list $folder.cpp"
-  fi
-  echo $list
+  echo "$*" $(cd "$PLUGINS" && LC_ALL=C ls -1 "$folder"/*.hpp "$folder"/*.cpp 2> /dev/null)
 }
 build_plugin() { # build_plugin NAME "SOURCES..." [LIBRARIES...]: (re)build edp/plugins/build/NAME.so
   local name="$1" sources="$2"; shift 2
@@ -91,9 +85,7 @@ build_plugin() { # build_plugin NAME "SOURCES..." [LIBRARIES...]: (re)build edp/
   echo "run.sh: built $target" >&2
 }
 build_kernel() {
-  local kernel
-  if [ -d "$PLUGINS/kernel" ]; then kernel="$(plugin_sources kernel contactlaw.hpp)"; else kernel="contactkernel.cpp contactlaw.hpp"; fi
-  build_plugin contactkernel "$kernel" -lcholmod -llapack -lblas
+  build_plugin contactkernel "$(plugin_sources kernel contactlaw.hpp)" -lcholmod -llapack -lblas
   build_plugin runtools "$(plugin_sources runtools)"
 }
 
@@ -118,8 +110,6 @@ ensure_dependencies() { # ensure_dependencies [solve|bench]
 export FF_LOADPATH="/usr/lib/freefem++;$here/edp/plugins/build"
 export OPENBLAS_NUM_THREADS="${OPENBLAS_NUM_THREADS:-1}"
 export MPLBACKEND=Agg
-# plots/suite.py: the readers of the outputs and the figure style, shared by plots/ and tests/
-export PYTHONPATH="$here/plots${PYTHONPATH:+:$PYTHONPATH}"
 export PYTHON
 FREEFEM=(FreeFem++-nw -ns -v 0)
 

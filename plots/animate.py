@@ -7,15 +7,15 @@ Reads RUN_DIR/vtk/fields.pvd and its .vtu files (at most FRAMES of them, evenly 
 the first and the last included) and writes RUN_DIR/figures/animation.gif (Pillow), and
 animation.mp4 too when ffmpeg is on the PATH. Each frame, shaped to the body: the deformed
 mesh (one magnification factor for every frame, given in the title) coloured by the von
-Mises stress (by |v| where the files have no von_mises) on one scale for every frame, the
+Mises stress on one scale for every frame, the
 undeformed outline, the contact nodes coloured by zone, x [m] and y [m] (docs/figures.md).
 Every frame is read and checked first (a .vtu that is not one, nan or inf in a value drawn,
 a zone code out of range: refused, naming the file); the files are written all or nothing
-(suite.FigureFiles), never over a file of figures/ that figures.list does not list. Prints
+(figurefiles.FigureFiles), never over a file of figures/ that figures.list does not list. Prints
 the files written.
 
 A 3D run (summary.txt: dimension 3) needs no vtk/: its animation is Gamma3 seen from outside
-(suite.ContactFace), each node's cell in the colour of its zone at each recorded step of
+(face3d.ContactFace), each node's cell in the colour of its zone at each recorded step of
 contact_nodes_history.txt, the nodes per zone against t below (animate3).
 """
 import argparse
@@ -23,6 +23,9 @@ import contextlib
 import io
 import os
 import shutil
+import sys
+
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.dirname(os.path.abspath(__file__))), "edp"))
 
 import matplotlib.animation as manimation
 import matplotlib.collections as mcollections
@@ -30,17 +33,21 @@ import matplotlib.colors as mcolors
 import matplotlib.tri as mtri
 import numpy as np
 
-import suite
+import face3d
+import figurefiles
+import gamma3
+import runfiles
+import style
+from style import ZONE_COLORS, ZONES
 
-plt = suite.pyplot()
+plt = style.pyplot()
 FRAMES, FPS, DPI = 100, 10, 80          # at most 100 frames, 10 a second, 80 pixels an inch
-LEGEND = (len(suite.ZONES), 5, 1.5)     # the zones' legend: 5 entries, up to 5 columns of 1.5 inches
-ZONE_COLORS = {zone.code: zone.color for zone in suite.ZONES}
+LEGEND = (len(ZONES), 5, 1.5)           # the zones' legend: 5 entries, up to 5 columns of 1.5 inches
 
 
 def save_animation(fig, draw, count, files, written):
     """The frames draw(0 .. count-1) of fig as the GIF written[0] (Pillow) and the MP4
-    written[1] (ffmpeg), each into a new file of files (suite.FigureFiles: never through a
+    written[1] (ffmpeg), each into a new file of files (figurefiles.FigureFiles: never through a
     symbolic link), then put into place (files.commit()); returns written."""
     from PIL import Image
     size = [int(side * DPI) for side in fig.get_size_inches()]
@@ -70,13 +77,13 @@ def time_series(folder):
     """[(t, Vtu)] of the run's vtk/ folder, at most FRAMES of them, all on the same mesh."""
     vtk = os.path.join(folder, "vtk")
     if not os.path.isdir(vtk) or not os.listdir(vtk):          # a run without -vtk N may leave it empty
-        raise suite.InputError(f"{folder} has no vtk/ time series: run with -vtk N")
-    series = suite.read_pvd(os.path.join(vtk, "fields.pvd"))
+        raise runfiles.InputError(f"{folder} has no vtk/ time series: run with -vtk N")
+    series = runfiles.read_pvd(os.path.join(vtk, "fields.pvd"))
     chosen = np.unique(np.linspace(0, len(series) - 1, min(len(series), FRAMES)).round().astype(int))
-    frames = [(series[i][0], suite.read_vtu(series[i][1])) for i in chosen]
+    frames = [(series[i][0], runfiles.read_vtu(series[i][1])) for i in chosen]
     for (_, first), (t, frame) in zip(frames, frames[1:]):
         if not np.array_equal(first.triangles, frame.triangles):
-            raise suite.InputError(f"{frame.path}: the mesh at t = {t:g} is not that of {first.path}")
+            raise runfiles.InputError(f"{frame.path}: the mesh at t = {t:g} is not that of {first.path}")
     for _, vtu in frames:                                         # every value drawn, checked before drawing
         array(vtu, "u", 2)
         colour_values(vtu)
@@ -88,11 +95,11 @@ def array(vtu, name, columns=None):
     """A point-data array of a frame (its first columns), checked to hold finite numbers:
     InputError naming the .vtu file otherwise."""
     if name not in vtu.point_data:
-        raise suite.InputError(f"{vtu.path}: no point data '{name}' (it has {' '.join(vtu.point_data)})")
+        raise runfiles.InputError(f"{vtu.path}: no point data '{name}' (it has {' '.join(vtu.point_data)})")
     values = vtu.point_data[name]
     values = values if columns is None else values.reshape(len(vtu.xy), -1)[:, :columns]
     if not np.isfinite(values).all():
-        raise suite.InputError(f"{vtu.path}: point data '{name}' holds {values[~np.isfinite(values)][0]!r}, "
+        raise runfiles.InputError(f"{vtu.path}: point data '{name}' holds {values[~np.isfinite(values)][0]!r}, "
                                "not a finite number")
     return values
 
@@ -100,43 +107,41 @@ def array(vtu, name, columns=None):
 def zones(vtu):
     """The zone code of each point of a frame (contact_zone: -1 off Gamma3, else 0..4)."""
     zone = array(vtu, "contact_zone")
-    bad = ~np.isin(zone, np.arange(-1, len(suite.ZONES)))
+    bad = ~np.isin(zone, np.arange(-1, len(ZONES)))
     if bad.any():
-        raise suite.InputError(f"{vtu.path}: contact_zone = {zone[bad][0]:g}, not one of -1..{len(suite.ZONES) - 1}")
+        raise runfiles.InputError(f"{vtu.path}: contact_zone = {zone[bad][0]:g}, not one of -1..{len(ZONES) - 1}")
     return zone.astype(int)
 
 
 def colour_values(vtu):
-    """The values the body is coloured by: the von Mises stress, or |v| without it."""
-    if "von_mises" in vtu.point_data:
-        return array(vtu, "von_mises"), "von Mises stress [GPa]"
-    return np.hypot(*array(vtu, "v", 2).T), "|v| [m/s]"
+    """The values the body is coloured by: the von Mises stress."""
+    return array(vtu, "von_mises"), "von Mises stress [GPa]"
 
 
 def animate(folder):
     """Write the animation of the run in folder; return the paths written."""
-    out = os.path.join(suite.run_folder(folder), "figures")
+    out = os.path.join(runfiles.run_folder(folder), "figures")
     written = [os.path.join(out, name) for name in ("animation.gif", "animation.mp4")[:2 if shutil.which("ffmpeg") else 1]]
-    files = suite.FigureFiles(written)                  # refuses to draw over a file not ours
-    if suite.run_dimension(folder) == 3:
+    files = figurefiles.FigureFiles(written)                  # refuses to draw over a file not ours
+    if runfiles.run_dimension(folder) == 3:
         return animate3(folder, files, written)
     frames = time_series(folder)
     xy, triangles = frames[0][1].xy, frames[0][1].triangles
     largest = max(np.hypot(*array(vtu, "u", 2).T).max() for _, vtu in frames)
-    factor = suite.magnification(np.ptp(xy, axis=0).max(), largest)
+    factor = style.magnification(np.ptp(xy, axis=0).max(), largest)
     moved = [xy + factor * array(vtu, "u", 2) for _, vtu in frames]
     label = colour_values(frames[0][1])[1]
     norm = mcolors.Normalize(0.0, max(colour_values(vtu)[0].max() for _, vtu in frames) or 1.0)
     scale = "true scale" if factor == 1 else f"displacements magnified {factor:g} times"
     name = os.path.basename(os.path.normpath(os.path.abspath(folder)))
-    fig, ax = suite.body_figure(np.concatenate([xy] + moved), f"{name} ({scale})\nt = {frames[-1][0]:.4g} s",
+    fig, ax = style.body_figure(np.concatenate([xy] + moved), f"{name} ({scale})\nt = {frames[-1][0]:.4g} s",
                                 legend=LEGEND, box=(5.6, 3.9), right=1.6)
     limits, title = (ax.get_xlim(), ax.get_ylim()), ax.get_title().rsplit("\n", 1)[0]
     fig.set_size_inches(*even_pixels(fig.get_size_inches()))
     fig.colorbar(plt.cm.ScalarMappable(norm=norm, cmap="viridis"), ax=ax, label=label, shrink=0.8)
-    fig.legend(handles=suite.zone_patches(), loc="lower center", ncol=suite.legend_columns(fig, *LEGEND[1:]),
+    fig.legend(handles=style.zone_patches(), loc="lower center", ncol=style.legend_columns(fig, *LEGEND[1:]),
                fontsize=7)
-    outline = xy[suite.boundary_edges(triangles)]
+    outline = xy[gamma3.boundary_edges(triangles)]
 
     def draw(k):
         t, vtu = frames[k]
@@ -161,7 +166,7 @@ def animate(folder):
 
 
 def animate3(folder, files, written):
-    """The animation of a 3D run: its contact face seen from outside (suite.ContactFace),
+    """The animation of a 3D run: its contact face seen from outside (face3d.ContactFace),
     each node's cell in the colour of its zone at each recorded step of
     contact_nodes_history.txt (at most FRAMES of them, evenly spread, the first and the last
     included), the nodes of each zone against t below, a line at the frame's t. Writes the
@@ -169,15 +174,15 @@ def animate3(folder, files, written):
     from matplotlib.collections import LineCollection, PolyCollection
     from matplotlib.patches import Patch
     name = os.path.basename(os.path.normpath(os.path.abspath(folder)))
-    contact = suite.read_table(os.path.join(folder, "contact.txt"))
+    contact = runfiles.read_table(os.path.join(folder, "contact.txt"))
     mesh = os.path.join(folder, "mesh.msh")
-    face = suite.ContactFace(suite.read_msh3(mesh), contact, mesh)
+    face = face3d.ContactFace(runfiles.read_msh3(mesh), contact, mesh)
     xyz = np.column_stack(contact.finite("x", "y", "z"))
-    _, t, zones = suite.node_zones(os.path.join(folder, "contact_nodes_history.txt"), len(contact), xyz)
+    _, t, zones = runfiles.node_history(os.path.join(folder, "contact_nodes_history.txt"), len(contact), xyz)
     chosen = np.unique(np.linspace(0, len(t) - 1, min(len(t), FRAMES)).round().astype(int))
-    counts = np.array([[np.sum(row == zone.code) for zone in suite.ZONES] for row in zones])
+    counts = np.array([[np.sum(row == zone.code) for zone in ZONES] for row in zones])
     width, left, legend, title, below, history = 8.0, 0.7, 2.2, 0.75, 0.5, 1.6     # inches
-    w, h = face.extent() + 0.08 * face.extent().max()               # with the margins of suite.face_axes
+    w, h = face.extent() + 0.08 * face.extent().max()               # with the margins of face3d.face_axes
     map_width = width - left - legend - 0.2
     map_height = min(map_width * h / w, 4.5)
     map_width = map_height * w / h
@@ -194,14 +199,14 @@ def animate3(folder, files, written):
     ax.add_collection(cells)
     ax.add_collection(LineCollection(face.uv[face.edges()], colors="w", linewidths=0.5, alpha=0.7))
     ax.plot(*face.uv.T, "o", color="k", markersize=2, markeredgewidth=0)
-    suite.face_axes(ax, face)
-    for zone, column in zip(suite.ZONES, counts.T):
+    face3d.face_axes(ax, face)
+    for zone, column in zip(ZONES, counts.T):
         lower.plot(t, column, color=zone.color)
     now = lower.axvline(t[0], color="k", linewidth=1)
     lower.set_xlabel("t [s]")
     lower.set_ylabel("nodes")
     lower.set_title("nodes per zone on $\\Gamma_3$", fontsize=8)
-    colors = np.array([mcolors.to_rgba(zone.color) for zone in suite.ZONES])
+    colors = np.array([mcolors.to_rgba(zone.color) for zone in ZONES])
 
     def draw(k):
         step = chosen[k]
@@ -211,8 +216,8 @@ def animate3(folder, files, written):
         now.set_xdata([t[step], t[step]])
         if ax.get_legend():
             ax.get_legend().remove()
-        ax.legend(handles=[Patch(color=zone.color, label=f"{zone.name}: {suite.nodes(count)}")
-                           for zone, count in zip(suite.ZONES, counts[step])], fontsize=7, loc="upper left",
+        ax.legend(handles=[Patch(color=zone.color, label=f"{zone.name}: {style.nodes(count)}")
+                           for zone, count in zip(ZONES, counts[step])], fontsize=7, loc="upper left",
                   bbox_to_anchor=(1.02, 1.0), borderaxespad=0)
         ax.set_title(f"{name}: zones on $\\Gamma_3$ at t = {t[step]:.4g} s\n{face.view}", fontsize=8)
 
@@ -227,11 +232,11 @@ def even_pixels(size):
 
 def legend_rows(fig):
     """The rows of the zones' legend across the figure's bottom."""
-    return -(-len(suite.ZONES) // suite.legend_columns(fig, *LEGEND[1:]))
+    return -(-len(ZONES) // style.legend_columns(fig, *LEGEND[1:]))
 
 
 def main():
-    suite.check_arguments("animate.py")                 # a name not in UTF-8: refused before anything
+    runfiles.check_arguments("animate.py")                 # a name not in UTF-8: refused before anything
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("folder", metavar="RUN_DIR")
     for path in animate(parser.parse_args().folder):
@@ -239,4 +244,4 @@ def main():
 
 
 if __name__ == "__main__":
-    suite.run_tool("animate.py", main, code=2)
+    runfiles.run_tool("animate.py", main, code=2, cleanup=figurefiles.abort_pending)

@@ -13,10 +13,14 @@ import argparse
 import math
 import os
 import re
+import sys
 
-import suite
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.dirname(os.path.abspath(__file__))), "edp"))
 
-plt = suite.pyplot()
+import runfiles
+import style
+
+plt = style.pyplot()
 NAN = float("nan")
 
 
@@ -24,7 +28,7 @@ def run_record(bench, name):
     """What one run measured: its summary (empty if it failed), wall, peak memory, error."""
     folder = os.path.join(bench, "runs", name)
     record = {"name": name, "converged": os.path.isfile(os.path.join(folder, "summary.txt"))}
-    record["summary"] = suite.read_summary(folder) if record["converged"] else {}
+    record["summary"] = runfiles.read_summary(folder) if record["converged"] else {}
     wall, peak = NAN, NAN
     if os.path.isfile(folder + ".time"):
         words = open(folder + ".time").read().split()
@@ -79,7 +83,7 @@ def steps_table(bench, prefix="steps-", table="steps.txt"):
                "time_condensation time_record_setup time_backsubstitution time_backsubstitution_umfpack time_step_median "
                "step_over_floor step_over_umfpack_floor iterations_mean "
                "iterations_max peak_memory_MB").split()
-    suite.write_table(os.path.join(bench, table),
+    runfiles.write_table(os.path.join(bench, table),
                       ["cost per time step: time_step_median (CPU s) against the floor time_backsubstitution (one",
                        "back-substitution with the kernel's Cholesky factor of S, measured during the loop, same run) and against",
                        "time_backsubstitution_umfpack (one back-substitution with FreeFEM's default UMFPACK, median of 5,",
@@ -109,7 +113,7 @@ def steps_adapted_table(bench):
                      median(before)])
     columns = ("mesh vertices contact_slots runs time_backsubstitution step_over_floor step_over_floor_min "
                "step_over_floor_max step_over_floor_before").split()
-    suite.write_table(os.path.join(bench, "steps_adapted.txt"),
+    runfiles.write_table(os.path.join(bench, "steps_adapted.txt"),
                       ["cost per time step on the adapted meshes of work_precision.txt, each run again with -mesh",
                        "(the mesh of wp-RUN): the median over the runs of time_step_median / time_backsubstitution (the",
                        "floor measured during the loop, same run), its smallest and largest, and the median against",
@@ -133,7 +137,7 @@ def iterations_table(bench):
                      int(value(r, "fixed_point_sweeps")) if r["converged"] else -1])
     columns = ("mode mesh r converged iterations_mean iterations_max time_step_median time_backsubstitution "
                "step_over_floor newton_fallbacks fixed_point_sweeps").split()
-    suite.write_table(os.path.join(bench, "iterations.txt"),
+    runfiles.write_table(os.path.join(bench, "iterations.txt"),
                       ["iterations and cost per step against the augmentation factor r (r_j = r/(Dw)_jj; for the fixed",
                        "point does not use r: every residual is read at r = 1), T = 1, k = 0.01; step_over_floor =",
                        "time_step_median / time_backsubstitution (CPU seconds, same run); converged 0: exit 4 at the cap",
@@ -146,7 +150,7 @@ def final_contact(folder):
     path = os.path.join(folder, "contact_history.txt")
     if not os.path.isfile(path):
         return NAN, NAN, NAN
-    table = suite.read_table(path)
+    table = runfiles.read_table(path)
     return tuple(float(table[k][-1]) for k in ("x_B", "x_C", "normal_force"))
 
 
@@ -172,7 +176,7 @@ def work_precision_table(bench, reference):
                      srel, value(r, "time_loop")])
     columns = ("run family converged vertices wall error_L2 relative_error_L2 error_gamma3 error_x_B error_x_C "
                "relative_error_normal_force relative_solver_error_L2 time_loop").split()
-    suite.write_table(os.path.join(bench, "work_precision.txt"),
+    runfiles.write_table(os.path.join(bench, "work_precision.txt"),
                       [f"error at T against the reference {os.path.basename(reference)} (the family dt: against the",
                        f"66x33 run at k = 0.00125, {TIME_REFERENCE}) (edp/compare.edp: ||v - v_ref||_L2(Omega) with the",
                        "consistent mass matrix of the reference mesh, and max |dv_nu| on Gamma3; x_B, x_C and the normal",
@@ -211,7 +215,7 @@ def rates_and_margin(bench, reference, columns, rows):
     ks = [float(r[c["run"]].split("-")[-1]) for r in pts]
     rate_rows.append(["dt", len(pts), slope(ks, [r[c["relative_error_L2"]] for r in pts]), NAN,
                       "time steps on 66x33, in k (against k = 0.00125)"])
-    suite.write_table(os.path.join(bench, "rates.txt"),
+    runfiles.write_table(os.path.join(bench, "rates.txt"),
                       ["observed rates: the least-squares slope of log(relative L2 error of v at T) against log h or",
                        "log k (rate), and against log(wall seconds) (per_wall, negated: error ~ wall^-per_wall)"],
                       "family points rate per_wall meaning".split(), rate_rows)
@@ -220,7 +224,7 @@ def rates_and_margin(bench, reference, columns, rows):
     estimate = e.get("error_L2", NAN) / e["norm_L2"] if e.get("norm_L2") else NAN
     space = [r[c["relative_error_L2"]] for r in ok if r[c["family"]] in ("mesh", "adapt1", "adapt2")]
     smallest = min(space) if space else NAN
-    suite.write_table(os.path.join(bench, "reference.txt"),
+    runfiles.write_table(os.path.join(bench, "reference.txt"),
                       ["the reference's error: estimated as its distance to the check run (twice its -adapt_err; the",
                        "error of an adapted mesh falls like -adapt_err, so the check's error is about twice the",
                        "reference's and the distance about the reference's own), and the margin below the smallest",
@@ -266,14 +270,14 @@ def chart_cost_per_step(bench, columns, rows, rows3d=()):
     floor_pts = sorted((dofs, sorted(f)[len(f) // 2]) for dofs, f in floors.items())   # median per mesh
     umfpack_pts = sorted((dofs, sorted(f)[len(f) // 2]) for dofs, f in umfpack_floors.items())
     highest = 0.0
-    for (mode, problem), style in ((("newton", "original"), "o-"), (("newton", "penalty"), "s--"),
+    for (mode, problem), line in ((("newton", "original"), "o-"), (("newton", "penalty"), "s--"),
                                    (("script", "original"), "D-"), (("full", "original"), "^-"),
                                    (("fixedpoint", "original"), "v-")):
         pts = sorted((r[c["dofs"]], r[c["time_step_median"]]) for r in rows
                      if r[c["mode"]] == mode and r[c["problem"]] == problem and r[c["converged"]]
                      )
         if pts:
-            left.loglog(*zip(*pts), style, label=f"{mode}, {problem}")
+            left.loglog(*zip(*pts), line, label=f"{mode}, {problem}")
             highest = max(highest, max(p[1] for p in pts))
     if floor_pts:
         left.loglog(*zip(*floor_pts), "k:", linewidth=2, label="floor: one back-substitution (kernel, Cholesky)")
@@ -292,17 +296,17 @@ def chart_cost_per_step(bench, columns, rows, rows3d=()):
     if highest > 0:
         left.set_ylim(top=highest * 3000)       # room for the legend above the slowest mode
     left.legend(fontsize=6.5, loc="upper left", ncol=2)
-    for key, style in (("time_mesh", "v-"), ("time_assembly", "o-"), ("time_factorization", "s-"),
+    for key, line in (("time_mesh", "v-"), ("time_assembly", "o-"), ("time_factorization", "s-"),
                        ("time_condensation", "^-"), ("time_record_setup", "D-")):
         pts = sorted({(r[c["dofs"]], r[c[key]]) for r in rows
                       if r[c["mode"]] == "newton" and r[c["problem"]] == "original" and r[c["converged"]]})
         if pts:
-            right.loglog(*zip(*pts), style, label=key.replace("time_", ""))
+            right.loglog(*zip(*pts), line, label=key.replace("time_", ""))
     right.set_xlabel("degrees of freedom")
     right.set_ylabel("wall seconds, once per run")
     right.set_title("setup costs (Newton, original)")
     right.legend(fontsize=7)
-    return suite.save(fig, bench, "bench_cost_per_step")
+    return style.save(fig, bench, "bench_cost_per_step")
 
 
 def parameter_order(name):
@@ -366,7 +370,7 @@ def chart_work_precision(bench, columns, rows):
     solver_ax.set_ylabel("relative L2 distance at T to the same mesh at tol 1e-13")
     solver_ax.set_title("what the tolerance buys each solver")
     solver_ax.legend(fontsize=7)
-    return suite.save(fig, bench, "bench_work_precision")
+    return style.save(fig, bench, "bench_work_precision")
 
 
 def chart_adapted_mesh(bench, columns, rows):
@@ -386,14 +390,14 @@ def chart_adapted_mesh(bench, columns, rows):
     fig, axes = plt.subplots(2, 2, figsize=(13, 6.2), gridspec_kw={"height_ratios": [2, 1]})
     for col, r in enumerate((adapted[0], uniform[0])):
         folder = os.path.join(bench, "runs", r[c["run"]])
-        mesh = suite.read_msh22(os.path.join(folder, "mesh.msh"))
-        table = suite.read_table(os.path.join(folder, "contact.txt"))
+        mesh = runfiles.read_msh22(os.path.join(folder, "mesh.msh"))
+        table = runfiles.read_table(os.path.join(folder, "contact.txt"))
         x, y = table["x"], table["y"]
-        zones = suite.zone_codes(table["normal_status"], table["tangential_status"])
+        zones = table.codes("zone", 0, len(style.ZONES) - 1)
         xb, xc, _ = final_contact(folder)
         for ax, zoom in ((axes[0][col], False), (axes[1][col], True)):
             ax.triplot(mesh.xy[:, 0], mesh.xy[:, 1], mesh.triangles, color="0.3", linewidth=0.15)
-            for zone in suite.ZONES:
+            for zone in style.ZONES:
                 on = zones == zone.code
                 if on.any():
                     ax.scatter(x[on], y[on], s=6 if zoom else 3, color=zone.color, zorder=3,
@@ -416,7 +420,7 @@ def chart_adapted_mesh(bench, columns, rows):
                 ax.set_title(f"{r[c['run']]}: {r[c['vertices']]:.0f} vertices, relative L2 error "
                              f"{r[c['relative_error_L2']]:.2e}, {r[c['wall']]:.2f} s", fontsize=9)
                 ax.legend(fontsize=6, loc="upper right", markerscale=3)
-    return suite.save(fig, bench, "bench_adapted_mesh")
+    return style.save(fig, bench, "bench_adapted_mesh")
 
 
 def chart_iterations(bench, columns, rows):
@@ -425,13 +429,13 @@ def chart_iterations(bench, columns, rows):
     styles = {("newton", "66x33"): "o-", ("newton", "132x66"): "o--", ("fixedpoint", "66x33"): "s-",
               ("fixedpoint", "132x66"): "s--"}
     colors = {"newton": "tab:blue", "fixedpoint": "tab:green"}
-    for (mode, mesh), style in styles.items():
+    for (mode, mesh), line in styles.items():
         pts = sorted((r[c["r"]], r[c["iterations_mean"]], r[c["step_over_floor"]], r[c["converged"]]) for r in rows
                      if r[c["mode"]] == mode and r[c["mesh"]] == mesh)
         ok = [p for p in pts if p[3]]
         if ok:
-            left.loglog([p[0] for p in ok], [p[1] for p in ok], style, color=colors[mode], label=f"{mode}, {mesh}")
-            right.loglog([p[0] for p in ok], [p[2] for p in ok], style, color=colors[mode], label=f"{mode}, {mesh}")
+            left.loglog([p[0] for p in ok], [p[1] for p in ok], line, color=colors[mode], label=f"{mode}, {mesh}")
+            right.loglog([p[0] for p in ok], [p[2] for p in ok], line, color=colors[mode], label=f"{mode}, {mesh}")
         for p in pts:
             if not p[3]:
                 for ax in (left, right):
@@ -445,16 +449,16 @@ def chart_iterations(bench, columns, rows):
     right.set_title("time per step against r, in floors")
     right.axhline(2, color="0.6", linewidth=1)
     right.legend(fontsize=7)
-    return suite.save(fig, bench, "bench_iterations")
+    return style.save(fig, bench, "bench_iterations")
 
 
 def main():
-    suite.check_arguments("bench.py")                   # a name not in UTF-8: refused before anything
+    runfiles.check_arguments("bench.py")                   # a name not in UTF-8: refused before anything
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("--bench", required=True)
     parser.add_argument("--reference", required=True)
     args = parser.parse_args()
-    suite.check_outputs("bench.py", [args.bench])       # not written through a symbolic link
+    runfiles.check_outputs("bench.py", [args.bench])       # not written through a symbolic link
     columns, rows = steps_table(args.bench)
     columns3d, rows3d = steps_table(args.bench, "steps3d-", "steps3d.txt")   # the 3D slab: its own table
     c = {name: i for i, name in enumerate(columns)}
@@ -495,4 +499,4 @@ def main():
 
 
 if __name__ == "__main__":
-    suite.run_tool("bench.py", main)
+    runfiles.run_tool("bench.py", main)

@@ -14,13 +14,18 @@ unloading, cylinder, bound-profile, power-damping of edp/scenes/) are the output
 """
 import argparse
 import os
+import sys
+
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.dirname(os.path.abspath(__file__))), "edp"))
 
 import matplotlib.tri as mtri
 import numpy as np
 
-import suite
+import gamma3
+import runfiles
+import style
 
-plt = suite.pyplot()
+plt = style.pyplot()
 PROBLEMS = ("original", "penalty")
 
 
@@ -29,25 +34,25 @@ def fig2_deformed(results, out):
     fig, axes = plt.subplots(1, 2, sharey=True)
     for ax, problem in zip(axes, PROBLEMS):
         folder = os.path.join(results, f"paper-{problem}")
-        f = suite.read_table(os.path.join(folder, "fields.txt"))
+        f = runfiles.read_table(os.path.join(folder, "fields.txt"))
         p = f.params
-        triangles = suite.read_msh22(os.path.join(folder, "mesh.msh")).triangles
+        triangles = runfiles.read_msh22(os.path.join(folder, "mesh.msh")).triangles
         tri = mtri.Triangulation(f["x"] + f["u_x"], f["y"] + f["u_y"], triangles)
         ax.triplot(tri, color="0.3", linewidth=0.3)
         ax.axhline(0.0, color="tab:red", linewidth=1.0, label="undeformed contact line y = 0")
         ax.set_aspect("equal")
-        ax.set_title(f"{suite.problem_label(p)}: deformed mesh at T (true scale)")
+        ax.set_title(f"{style.problem_label(p)}: deformed mesh at T (true scale)")
         ax.set_xlabel("x [m]")
         ax.legend(loc="upper right")
     axes[0].set_ylabel("y [m]")
-    return suite.save(fig, out, "fig2_deformed")
+    return style.save(fig, out, "fig2_deformed")
 
 
 def fig3_contact_reactions(results, out):
     """Fig. 3: normal pressure p_nu = p(v_nu) + lambda_nu and tangential stress on Gamma3 at T."""
     fig, axes = plt.subplots(1, 2, sharey=True)
     for ax, problem in zip(axes, PROBLEMS):
-        c = suite.read_table(os.path.join(results, f"paper-{problem}", "contact.txt"))
+        c = runfiles.read_table(os.path.join(results, f"paper-{problem}", "contact.txt"))
         p = c.params
         ax.plot(c["x"], c["p_nu"], "o-", label=r"$p_\nu = p(v_\nu) + \lambda_\nu$")
         ax.plot(c["x"], c["p_nu"] - c["lambda_nu"], "--", label=r"damped response $p(v_\nu)$")
@@ -55,22 +60,33 @@ def fig3_contact_reactions(results, out):
         ax.plot(c["x"], c["lambda_tau"], "s-", label=r"tangential stress $\lambda_\tau$")
         ax.plot(c["x"], c["friction_bound"], "k-", linewidth=0.8, label=r"friction bound $\mu p(v_\nu)$")
         ax.plot(c["x"], -c["friction_bound"], "k-", linewidth=0.8)
-        ax.set_title(f"{suite.problem_label(p)}: contact stresses on $\\Gamma_3$ at T = {p['T']}")
+        ax.set_title(f"{style.problem_label(p)}: contact stresses on $\\Gamma_3$ at T = {p['T']}")
         ax.set_xlabel("x [m]")
         ax.legend(loc="center right", fontsize=8)   # the band between p(g) and lambda_nu on CD is empty
     axes[0].set_ylabel("stress [GPa]")
-    return suite.save(fig, out, "fig3_contact_reactions")
+    return style.save(fig, out, "fig3_contact_reactions")
 
 
 # The paper's zones (section 5): AB damped and sliding, BC at the bound and sliding, CD sticking
-# in contact; from the zone code of a node (suite.ZONES). A free node is in none.
+# in contact; from the zone code of a node (style.ZONES). A free node is in none.
 PAPER_ZONES = {1: "AB", 3: "BC", 2: "CD", 4: "CD"}
 PAPER_COLORS = {"AB": "tab:green", "BC": "tab:orange", "CD": "tab:purple"}
 
 
 def paper_zones(c):
     """The paper's zone of each node of a contact.txt ('' for a free node)."""
-    return [PAPER_ZONES.get(code, "") for code in suite.zone_codes(c["normal_status"], c["tangential_status"])]
+    return [PAPER_ZONES.get(code, "") for code in c.codes("zone", 0, len(style.ZONES) - 1)]
+
+
+def bound_line(ax, c, **line):
+    """The bound g of the column g of a contact.txt: a horizontal line labelled with its value
+    where it is the same at every node, else g(x); returns its largest value."""
+    g = c.finite("g")[0]
+    if np.ptp(g) == 0:
+        ax.axhline(g[0], label=f"bound g = {g[0]:g}", **line)
+    else:
+        ax.plot(c["x"], g, label="bound g(x)", **line)
+    return float(g.max())
 
 
 def fig4_velocities(results, out):
@@ -80,17 +96,16 @@ def fig4_velocities(results, out):
     fig, axes = plt.subplots(1, 2, sharey=True)
     labels = []
     for ax, problem in zip(axes, PROBLEMS):
-        c = suite.read_table(os.path.join(results, f"paper-{problem}", "contact.txt"))
+        c = runfiles.read_table(os.path.join(results, f"paper-{problem}", "contact.txt"))
         p = c.params
-        g = p.real("g")
         ax.plot(c["x"], c["v_nu"], "o-", label=r"$v_\nu$")
         ax.plot(c["x"], c["v_tau"], "s-", label=r"$v_\tau$")
-        ax.axhline(g, color="k", linewidth=0.8, linestyle="--", label=f"bound g = {g}")
+        g = bound_line(ax, c, color="k", linewidth=0.8, linestyle="--")
         zones = paper_zones(c)
-        found = suite.stretches(c["x"], zones)
-        suite.shade_stretches(ax, found, PAPER_COLORS, alpha=0.12)
-        labels.append((ax, found, {name: f"{name}: {suite.nodes(zones.count(name))}" for name in PAPER_COLORS}, g))
-        ax.set_title(f"{suite.problem_label(p)}: velocities on $\\Gamma_3$ at T = {p['T']}")
+        found = gamma3.stretches(c["x"], zones)
+        gamma3.shade_stretches(ax, found, PAPER_COLORS, alpha=0.12)
+        labels.append((ax, found, {name: f"{name}: {style.nodes(zones.count(name))}" for name in PAPER_COLORS}, g))
+        ax.set_title(f"{style.problem_label(p)}: velocities on $\\Gamma_3$ at T = {p['T']}")
         ax.set_xlabel("x [m]")
         ax.legend(loc="center right")          # CD: v_nu = g, v_tau = 0 leave this corner empty
     axes[0].set_ylabel("velocity [m/s]")
@@ -99,14 +114,14 @@ def fig4_velocities(results, out):
     axes[0].set_ylim(top=max(1.25 * g, bottom + (g - bottom) / 0.86))    # g at most 86 % up: the labels above
     fig.tight_layout()
     for ax, found, texts, _ in labels:
-        suite.label_stretches(ax, found, texts, (0.93, 0.885, 0.84))
-    return suite.save(fig, out, "fig4_velocities")
+        gamma3.label_stretches(ax, found, texts, (0.93, 0.885, 0.84))
+    return style.save(fig, out, "fig4_velocities")
 
 
 def require(path, producer):
     """The path, or an InputError naming the missing input and what writes it."""
     if not os.path.isfile(path):
-        raise suite.InputError(f"missing {path} (written by {producer})")
+        raise runfiles.InputError(f"missing {path} (written by {producer})")
     return path
 
 
@@ -117,27 +132,26 @@ def eps_study_runs(results):
     for name in sorted(os.listdir(parent)) if os.path.isdir(parent) else []:
         path = os.path.join(parent, name, "contact.txt")
         if os.path.isfile(path):
-            runs[suite.read_table(path).params.real("eps")] = os.path.join(parent, name)
+            runs[runfiles.read_table(path).params.real("eps")] = os.path.join(parent, name)
     return runs
 
 
 def fig5_penalty_convergence(results, out, shown=(1e-1, 1e-2, 1e-3, 1e-5)):
     """Fig. 5: v_nu on Gamma3 at T for several eps and the original problem (left);
     ||v_eps - v||_L2(Omega) at T against eps, from eps_study.txt, with the fitted tail slope (right)."""
-    e = suite.read_table(require(os.path.join(results, "eps-study", "eps_study.txt"), "plots/tables.py"))
+    e = runfiles.read_table(require(os.path.join(results, "eps-study", "eps_study.txt"), "plots/tables.py"))
     study = e.params
     runs = eps_study_runs(results)
     fig, (left, right) = plt.subplots(1, 2)
     colors = plt.cm.viridis(np.linspace(0.0, 0.85, len(shown)))
     for eps, color in zip(shown, colors):
         if eps in runs:
-            c = suite.read_table(os.path.join(runs[eps], "contact.txt"))
+            c = runfiles.read_table(os.path.join(runs[eps], "contact.txt"))
             left.plot(c["x"], c["v_nu"], "o-", color=color, markersize=2, label=f"penalty, $\\varepsilon$ = {eps:g}")
-    c = suite.read_table(require(os.path.join(results, "paper-original", "contact.txt"), "./run.sh"))
+    c = runfiles.read_table(require(os.path.join(results, "paper-original", "contact.txt"), "./run.sh"))
     p = c.params
     left.plot(c["x"], c["v_nu"], "k-", linewidth=2.5, zorder=0, label="original problem")
-    g = p.real("g")
-    left.axhline(g, color="tab:red", linewidth=0.8, linestyle="--", label=f"bound g = {g:g}")
+    bound_line(ax=left, c=c, color="tab:red", linewidth=0.8, linestyle="--")
     left.set_title(f"normal velocity on $\\Gamma_3$ at T = {p['T']}")
     left.set_xlabel("x [m]")
     left.set_ylabel(r"$v_\nu$ [m/s]")
@@ -146,7 +160,7 @@ def fig5_penalty_convergence(results, out, shown=(1e-1, 1e-2, 1e-3, 1e-5)):
     try:
         tail = np.array([float(t) for t in study["tail_eps"].split(",")])
     except ValueError:
-        raise suite.InputError(f"{e.path}: tail_eps = {study['tail_eps']!r} is not a list of numbers") from None
+        raise runfiles.InputError(f"{e.path}: tail_eps = {study['tail_eps']!r} is not a list of numbers") from None
     slope = study.real("slope_tail")
     on_tail = np.isin(e["eps"], tail)
     intercept = np.mean(np.log(e["error_L2"][on_tail]) - slope * np.log(e["eps"][on_tail]))
@@ -158,39 +172,36 @@ def fig5_penalty_convergence(results, out, shown=(1e-1, 1e-2, 1e-3, 1e-5)):
     right.set_xlabel(r"penalty parameter $\varepsilon$")
     right.set_ylabel(r"$\|v_\varepsilon - v\|_{L^2(\Omega)}$, consistent mass matrix [m$^2$/s]")
     right.legend(loc="lower right")
-    return suite.save(fig, out, "fig5_penalty_convergence")
+    return style.save(fig, out, "fig5_penalty_convergence")
 
 
 def applied_normal_load(folder, params, t):
-    """The total traction pushing toward the foundation, load t |Gamma2| (traction . n), where
-    the scene names its traction direction and contact normal; None when it does not."""
-    path = os.path.join(folder, "scene.scene")
-    if not os.path.isfile(path):
-        return None
-    data = suite.read_scene(path).data
-    if "traction" not in data or "contact_normal" not in data:
+    """The total traction pushing toward the foundation, load h(t) |Gamma2| (traction . n),
+    where the run's scene.scene gives one contact normal (not auto); else None."""
+    data = runfiles.read_scene(os.path.join(folder, "scene.scene")).data
+    if data.get("contact_normal", [["auto"]])[0] == ["auto"]:
         return None
     try:
-        traction, normal = (np.array([float(w) for w in data[key][-1]]) for key in ("traction", "contact_normal"))
+        traction, normal = (np.array([float(w) for w in data[key][0]]) for key in ("traction", "contact_normal"))
     except ValueError:
-        raise suite.InputError(f"{path}: traction and contact_normal need numbers") from None
-    mesh = suite.read_msh22(os.path.join(folder, "mesh.msh"))
-    edges = mesh.lines[mesh.line_labels == suite.labels()["GammaTraction"]]
+        raise runfiles.InputError(f"{folder}/scene.scene: traction and contact_normal need numbers") from None
+    mesh = runfiles.read_msh22(os.path.join(folder, "mesh.msh"))
+    edges = mesh.lines[mesh.line_labels == runfiles.labels()["GammaTraction"]]
     d = mesh.xy[edges[:, 0]] - mesh.xy[edges[:, 1]]
     length = float(np.sum(np.hypot(d[:, 0], d[:, 1])))
-    return params.real("load") * t * length * float(traction @ (normal / np.hypot(*normal)))
+    return params.real("load") * runfiles.SceneLoads(folder).h(t) * length * float(traction @ (normal / np.hypot(*normal)))
 
 
 def contact_forces_history(results, out):
     """Total contact forces on Gamma3 against t: sum_i w_i p_nu,i and sum_i w_i lambda_tau,i."""
     fig, (left, right) = plt.subplots(1, 2)
-    for problem, style in zip(PROBLEMS, ("-", "--")):
-        h = suite.read_table(os.path.join(results, f"paper-{problem}", "contact_history.txt"))
+    for problem, line in zip(PROBLEMS, ("-", "--")):
+        h = runfiles.read_table(os.path.join(results, f"paper-{problem}", "contact_history.txt"))
         p = h.params
-        left.plot(h["t"], h["normal_force"], style, label=suite.problem_label(p))
-        right.plot(h["t"], h["tangential_force"], style, label=suite.problem_label(p))
+        left.plot(h["t"], h["normal_force"], line, label=style.problem_label(p))
+        right.plot(h["t"], h["tangential_force"], line, label=style.problem_label(p))
     folder = os.path.join(results, "paper-original")
-    h = suite.read_table(os.path.join(folder, "contact_history.txt"))
+    h = runfiles.read_table(os.path.join(folder, "contact_history.txt"))
     applied = applied_normal_load(folder, h.params, h["t"])
     if applied is not None:
         left.plot(h["t"], applied, "k:", linewidth=0.8, label=r"applied traction $\int_{\Gamma_2} f_2 \cdot \nu_{\Gamma_3}$")
@@ -200,18 +211,18 @@ def contact_forces_history(results, out):
         ax.set_xlabel("t [s]")
         ax.set_ylabel("force per unit thickness [GPa m]")
         ax.legend()
-    return suite.save(fig, out, "contact_forces_history")
+    return style.save(fig, out, "contact_forces_history")
 
 
 def energy_history(results, out):
     """Discrete energy balance (docs/design.md, "Energy identity"): the energies and the cumulative
     dissipations and work against t (left, log scale), the per-step residual (right)."""
     fig, (left, right) = plt.subplots(1, 2)
-    for problem, style in zip(PROBLEMS, ("-", "--")):
-        h = suite.read_table(os.path.join(results, f"paper-{problem}", "history.txt"))
-        suite.energy_terms_plot(left, h, style, labelled=problem == "original")
+    for problem, line in zip(PROBLEMS, ("-", "--")):
+        h = runfiles.read_table(os.path.join(results, f"paper-{problem}", "history.txt"))
+        style.energy_terms_plot(left, h, line, labelled=problem == "original")
         residual = np.where(h["energy_residual"] > 0, h["energy_residual"], np.nan)   # log scale: 0 is not drawn
-        right.semilogy(h["t"], residual, style, marker="o", markersize=2, label=suite.problem_label(h.params))
+        right.semilogy(h["t"], residual, line, marker="o", markersize=2, label=style.problem_label(h.params))
     left.plot([], [], "k-", label="original problem")
     left.plot([], [], "k--", label="penalty problem")
     left.set_title("energies at $t_n$ and cumulative dissipations and work")
@@ -220,22 +231,22 @@ def energy_history(results, out):
     right.set_xlabel("t [s]")
     right.set_ylabel("|balance| / largest term")
     right.legend()
-    return suite.save(fig, out, "energy_history")
+    return style.save(fig, out, "energy_history")
 
 
 def zone_boundaries(results, out):
     """Zone boundaries x_B (first node at the bound) and x_C (first sticking node in contact)
     against t (left), and the zone counts AB, BC, CD (right); nan (not drawn) where absent."""
     fig, (left, right) = plt.subplots(1, 2)
-    for problem, style in zip(PROBLEMS, ({"linestyle": "-"}, {"linestyle": "none", "marker": "o", "markersize": 2.5})):
-        h = suite.read_table(os.path.join(results, f"paper-{problem}", "contact_history.txt"))
-        name = suite.problem_label(h.params)
-        left.plot(h["t"], h["x_B"], color="tab:orange", label=f"$x_B$, {name}", **style)
-        left.plot(h["t"], h["x_C"], color="tab:purple", label=f"$x_C$, {name}", **style)
+    for problem, line in zip(PROBLEMS, ({"linestyle": "-"}, {"linestyle": "none", "marker": "o", "markersize": 2.5})):
+        h = runfiles.read_table(os.path.join(results, f"paper-{problem}", "contact_history.txt"))
+        name = style.problem_label(h.params)
+        left.plot(h["t"], h["x_B"], color="tab:orange", label=f"$x_B$, {name}", **line)
+        left.plot(h["t"], h["x_C"], color="tab:purple", label=f"$x_C$, {name}", **line)
         counts = {"AB (damped, slip)": h["zone_damped_slip"], "BC (at the bound, slip)": h["zone_bound_slip"],
                   "CD (stick)": h["zone_damped_stick"] + h["zone_bound_stick"]}
         for (zone, count), color in zip(counts.items(), ("tab:green", "tab:orange", "tab:purple")):
-            right.plot(h["t"], count, color=color, label=f"{zone}, {problem}", **style)
+            right.plot(h["t"], count, color=color, label=f"{zone}, {problem}", **line)
     left.set_title("zone boundaries on $\\Gamma_3$")
     left.set_xlabel("t [s]")
     left.set_ylabel("x [m]")
@@ -244,7 +255,7 @@ def zone_boundaries(results, out):
     right.set_xlabel("t [s]")
     right.set_ylabel("nodes")
     right.legend(fontsize=7)
-    return suite.save(fig, out, "zone_boundaries")
+    return style.save(fig, out, "zone_boundaries")
 
 
 # ---------------------------------------------------------------- the scenes of edp/scenes/
@@ -252,42 +263,43 @@ SCENES = ("unloading", "cylinder", "bound-profile", "power-damping")
 
 
 def scene_run(results, name):
-    """DIR/scenes/NAME (written by ./run.sh), its contact.txt, contact_history.txt and law."""
+    """DIR/scenes/NAME (written by ./run.sh), its contact.txt and contact_history.txt."""
     folder = os.path.join(results, "scenes", name)
     require(os.path.join(folder, "summary.txt"), f"./run.sh (the run of edp/scenes/{name}.scene)")
-    c = suite.read_table(os.path.join(folder, "contact.txt"))
-    return folder, c, suite.read_table(os.path.join(folder, "contact_history.txt")), suite.RunScene(folder, c.params)
+    c = runfiles.read_table(os.path.join(folder, "contact.txt"))
+    return folder, c, runfiles.read_table(os.path.join(folder, "contact_history.txt"))
 
 
 def scene_unloading(results, out):
     """The unloading scene: the contact force follows the load up and down (left), the zones
     form while it rises and free up while it falls (right)."""
-    folder, c, h, law = scene_run(results, "unloading")
+    folder, c, h = scene_run(results, "unloading")
     fig, (left, right) = plt.subplots(1, 2)
     left.plot(h["t"], h["normal_force"], label=r"normal force $\sum_i w_i\, p_{\nu,i}$")
     left.plot(h["t"], h["tangential_force"], label=r"tangential force $\sum_i w_i\, \lambda_{\tau,i}$")
     twin = left.twinx()
-    twin.plot(h["t"], law.h(h["t"]), "k:", linewidth=0.8)
+    twin.plot(h["t"], runfiles.SceneLoads(folder).h(h["t"]), "k:", linewidth=0.8)
     twin.set_ylabel("load factor h(t) (dotted)")
     left.set_xlabel("t [s]")
     left.set_ylabel("force per unit thickness [GPa m]")
     left.set_title(f"loaded, then unloaded: f2 = {c.params['load']} h(t)")
     left.legend(fontsize=7)
-    suite.zone_counts_plot(right, h)
-    return suite.save(fig, out, "scene_unloading")
+    style.zone_counts_plot(right, h)
+    return style.save(fig, out, "scene_unloading")
 
 
 def scene_cylinder(results, out):
     """The cylinder scene: the deformed half cylinder near its lowest point (left, with the
-    zones of its contact nodes) and the velocities and stresses along the arc at T (right)."""
-    folder, c, h, law = scene_run(results, "cylinder")
-    f = suite.read_table(os.path.join(folder, "fields.txt"))
-    mesh = suite.read_msh22(os.path.join(folder, "mesh.msh"))
+    zones of its contact nodes) and the velocities and stresses along the arc at T, relative
+    to the node's bound g and force scale p(g) (right)."""
+    folder, c, h = scene_run(results, "cylinder")
+    f = runfiles.read_table(os.path.join(folder, "fields.txt"))
+    mesh = runfiles.read_msh22(os.path.join(folder, "mesh.msh"))
     fig, (left, right) = plt.subplots(1, 2)
     tri = mtri.Triangulation(f["x"] + f["u_x"], f["y"] + f["u_y"], mesh.triangles)
     left.triplot(tri, color="0.6", linewidth=0.3)
-    zone = suite.zone_codes(c["normal_status"], c["tangential_status"])
-    for z in suite.ZONES[1:]:
+    zone = c.codes("zone", 0, len(style.ZONES) - 1)
+    for z in style.ZONES[1:]:
         mask = zone == z.code
         if mask.any():
             left.plot(c["x"][mask], c["y"][mask], "o", color=z.color, label=f"{z.name}: {int(mask.sum())} nodes")
@@ -296,66 +308,76 @@ def scene_cylinder(results, out):
     left.set_ylabel("y [m]")
     left.set_title("deformed mesh at T, contact nodes by zone (undeformed)")
     left.legend(fontsize=7, loc="upper left")
-    g = law.g(c["x"])
+    g, scale = c.finite("g", "force_scale")
     right.plot(c["x"], c["v_nu"] / g, "o-", markersize=5, label=r"$v_\nu / g$")
-    right.plot(c["x"], c["p_nu"] / law.p(g), "s--", markersize=2, label=r"$p_\nu / p(g)$ (= $v_\nu / g$ where damped: p is linear)")
-    right.plot(c["x"], c["lambda_tau"] / law.p(g), "^-", label=r"$\lambda_\tau / p(g)$")
+    right.plot(c["x"], c["p_nu"] / scale, "s--", markersize=2, label=r"$p_\nu / p(g)$ (= $v_\nu / g$ where damped: p is linear)")
+    right.plot(c["x"], c["lambda_tau"] / scale, "^-", label=r"$\lambda_\tau / p(g)$")
     right.axhline(1.0, color="k", linewidth=0.8, linestyle="--", label="the bound")
     right.set_xlabel("x [m] of the contact node")
     right.set_title(f"along the arc at T = {c.params['T']} (each node its own normal)")
     right.legend(fontsize=7)
-    return suite.save(fig, out, "scene_cylinder")
+    return style.save(fig, out, "scene_cylinder")
 
 
 def scene_bound_profile(results, out):
     """The bound-profile scene: v_nu at T under g(x) rising along Gamma3 (left) and the
     boundary x_B of the zone at the bound against t, with the paper's constant g (right)."""
-    folder, c, h, law = scene_run(results, "bound-profile")
+    folder, c, h = scene_run(results, "bound-profile")
     paper = os.path.join(results, "paper-original")
     fig, (left, right) = plt.subplots(1, 2)
     left.plot(c["x"], c["v_nu"], "o-", label=r"$v_\nu$, bound-profile")
-    left.plot(c["x"], law.g(c["x"]), "k--", linewidth=0.8, label="g(x) (bound_profile)")
-    pc = suite.read_table(os.path.join(paper, "contact.txt"))
-    left.plot(pc["x"], pc["v_nu"], ".", color="0.5", label=fr"$v_\nu$, paper (g = {pc.params['g']})")
+    left.plot(c["x"], c.finite("g")[0], "k--", linewidth=0.8, label="g(x) (bound_profile)")
+    pc = runfiles.read_table(os.path.join(paper, "contact.txt"))
+    left.plot(pc["x"], pc["v_nu"], ".", color="0.5", label=fr"$v_\nu$, paper (g = {pc['g'].max():g})")
     left.set_xlabel("x [m]")
     left.set_ylabel("velocity [m/s]")
     left.set_title(f"normal velocity on $\\Gamma_3$ at T = {c.params['T']}")
     left.legend(fontsize=7)
-    ph = suite.read_table(os.path.join(paper, "contact_history.txt"))
+    ph = runfiles.read_table(os.path.join(paper, "contact_history.txt"))
     right.plot(h["t"], h["x_B"], label="$x_B$, bound-profile")
     right.plot(ph["t"], ph["x_B"], color="0.5", label="$x_B$, paper")
     right.set_xlabel("t [s]")
     right.set_ylabel("x [m]")
     right.set_title("first node at the bound, $x_B$")
     right.legend(fontsize=7)
-    return suite.save(fig, out, "scene_bound_profile")
+    return style.save(fig, out, "scene_bound_profile")
+
+
+def damped_response(folder):
+    """The damped response p(r) the law gave the run's nodes, 0 <= r <= g: the pairs (v_nu,
+    damped_response) of contact_nodes_history.txt at every recorded step (and of contact.txt
+    at T), sorted by v_nu (r, p(r)), and the largest g."""
+    rows = [runfiles.read_table(os.path.join(folder, name)) for name in ("contact_nodes_history.txt", "contact.txt")]
+    r, p, g = (np.concatenate([table.finite(column)[0] for table in rows]) for column in ("v_nu", "damped_response", "g"))
+    kept = (r >= 0) & (r <= g)
+    r, order = np.unique(r[kept], return_index=True)
+    return r, p[kept][order], float(g.max())
 
 
 def scene_power_damping(results, out):
-    """The power-damping scene: p(r) = C r^2 with the paper's p(g), the damped response of
-    every contact node at T on it (left), and v_nu along Gamma3 against the paper's (right)."""
-    folder, c, h, law = scene_run(results, "power-damping")
+    """The power-damping scene: p(r) = C r^2 with the paper's p(g), as the law gave it to the
+    contact nodes over the run, the damped response of every node at T on it (left), and v_nu
+    along Gamma3 against the paper's (right)."""
+    folder, c, h = scene_run(results, "power-damping")
     paper = os.path.join(results, "paper-original")
-    pc = suite.read_table(os.path.join(paper, "contact.txt"))
-    linear = suite.RunScene(paper, pc.params)
-    g = float(c.params.real("g"))
-    r = np.linspace(0, g, 101)
+    pc = runfiles.read_table(os.path.join(paper, "contact.txt"))
+    r, p, g = damped_response(folder)
     fig, (left, right) = plt.subplots(1, 2)
-    left.plot(r, law.p(r), "-", label="p(r), power-damping")
-    left.plot(r, linear.p(r), "--", color="0.5", label="p(r), paper")
-    left.plot(c["v_nu"], c["p_nu"] - c["lambda_nu"], "o", label=r"$(v_\nu, p_\nu - \lambda_\nu)$ of the nodes at T")
+    left.plot(r, p, "-", label="p(r), power-damping")
+    left.plot(*damped_response(paper)[:2], "--", color="0.5", label="p(r), paper")
+    left.plot(c["v_nu"], c["damped_response"], "o", label=r"$(v_\nu, p(v_\nu))$ of the nodes at T")
     left.set_xlabel("normal velocity r [m/s]")
     left.set_ylabel("damped response [GPa]")
     left.set_title("the damped response")
     left.legend(fontsize=7)
     right.plot(c["x"], c["v_nu"], "o-", label=r"$v_\nu$, power-damping")
     right.plot(pc["x"], pc["v_nu"], ".", color="0.5", label=r"$v_\nu$, paper")
-    right.axhline(g, color="k", linewidth=0.8, linestyle="--", label=f"bound g = {g}")
+    bound_line(right, c, color="k", linewidth=0.8, linestyle="--")
     right.set_xlabel("x [m]")
     right.set_ylabel("velocity [m/s]")
     right.set_title(f"normal velocity on $\\Gamma_3$ at T = {c.params['T']}")
     right.legend(fontsize=7)
-    return suite.save(fig, out, "scene_power_damping")
+    return style.save(fig, out, "scene_power_damping")
 
 
 FIGURES = {"fig2": fig2_deformed, "fig3": fig3_contact_reactions, "fig4": fig4_velocities,
@@ -366,23 +388,23 @@ FIGURES = {"fig2": fig2_deformed, "fig3": fig3_contact_reactions, "fig4": fig4_v
 
 
 def main():
-    suite.check_arguments("figures.py")                 # a name not in UTF-8: refused before anything
+    runfiles.check_arguments("figures.py")                 # a name not in UTF-8: refused before anything
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("--results", required=True)
     parser.add_argument("--out", required=True)
     parser.add_argument("names", nargs="*", help="figures to draw: " + " ".join(FIGURES))
     args = parser.parse_args()
-    suite.check_outputs("figures.py", [args.out])       # not written through a symbolic link
+    runfiles.check_outputs("figures.py", [args.out])       # not written through a symbolic link
     unknown = [n for n in args.names if n not in FIGURES]
     if unknown:
-        raise suite.InputError(f"no run folder '{suite.shown(unknown[0])}' and no figure named {suite.shown(unknown[0])} "
+        raise runfiles.InputError(f"no run folder '{runfiles.shown(unknown[0])}' and no figure named {runfiles.shown(unknown[0])} "
                                f"(figures: {' '.join(FIGURES)})")
     for problem in PROBLEMS:
         if not os.path.isfile(os.path.join(args.results, f"paper-{problem}", "summary.txt")):
-            raise suite.InputError(f"no results in {suite.shown(args.results)}/paper-{problem}: run ./run.sh first")
+            raise runfiles.InputError(f"no results in {runfiles.shown(args.results)}/paper-{problem}: run ./run.sh first")
     for name in args.names or FIGURES:
         print(f"figures.py: {name} -> {FIGURES[name](args.results, args.out)}")
 
 
 if __name__ == "__main__":
-    suite.run_tool("figures.py", main, code=2)
+    runfiles.run_tool("figures.py", main, code=2)

@@ -7,25 +7,26 @@ A run folder holds summary.txt and run.complete (docs/design.md, "Output files")
 RUN_DIR/figures/ receives the figures its files allow (docs/figures.md):
   contact_at_T.png   v_nu and g, p_nu, lambda_tau and the friction bound along Gamma3 at T
   histories.png      contact forces, nodes per zone, energy terms and balance against t
-  deformed.png       the deformed body at T coloured by the von Mises stress (or |v|)
+  deformed.png       the deformed body at T coloured by the von Mises stress
   zone_map.png       the zone of every contact node against its position and t
                      (from contact_nodes_history.txt, when the run wrote it)
 With several folders, compare_contact.png (the quantities at T of every run, overlaid)
 goes into the first one's figures/. The position along Gamma3 is x where Gamma3 is
 straight along x, otherwise the arc length; a Gamma3 in pieces (the mesh's contact lines
-that do not join) is drawn in pieces, its gaps left blank. The zones are shaded from the
-nodes' statuses wherever they lie, never in an assumed order.
+that do not join) is drawn in pieces, its gaps left blank. The bound g, the damped response
+p(v_nu), the friction bound and the zones are the law's own columns of contact.txt; the zones
+are shaded wherever the nodes lie, never in an assumed order.
 
 A 3D run (summary.txt: dimension 3) gets the same files, drawn for its body of tetrahedra
 (the functions ending in 3): Gamma3 seen from outside in its own plane coordinates
-(suite.ContactFace) for contact_at_T.png (maps of v_nu, p_nu, |v_tau| with the slip
+(face3d.ContactFace) for contact_at_T.png (maps of v_nu, p_nu, |v_tau| with the slip
 arrows, and the friction cone) and zone_map.png (the zones at T); the outer surface
 deformed, seen from above and below, for deformed.png; the forces in both tangential
 directions in histories.png. In compare_contact.png its nodes are dots at their first
 coordinate on Gamma3.
 
 Prints the files written, one a line; a note on stderr for each figure a run's files do not
-allow. All or nothing (suite.FigureFiles): nothing is drawn over a file of figures/ that
+allow. All or nothing (figurefiles.FigureFiles): nothing is drawn over a file of figures/ that
 figures.list does not list, and a failure leaves every figures/ as it was. Corrupt inputs
 (a status or zone code out of its range, nan or inf in a value drawn) are refused.
 """
@@ -34,6 +35,8 @@ import functools
 import os
 import sys
 
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.dirname(os.path.abspath(__file__))), "edp"))
+
 import matplotlib.collections as mcollections
 import matplotlib.colors as mcolors
 import matplotlib.lines as mlines
@@ -41,41 +44,44 @@ import matplotlib.ticker as mticker
 import matplotlib.tri as mtri
 import numpy as np
 
-import suite
+import face3d
+import figurefiles
+import gamma3
+import runfiles
+import style
+from style import ZONE_COLORS
 
-plt = suite.pyplot()
-ZONE_COLORS = {zone.code: zone.color for zone in suite.ZONES}
+plt = style.pyplot()
 
 
 class Run:
-    """A run folder: its name, contact.txt at T, mesh, law (suite.RunScene, from its
-    scene.scene), the zone code of each contact node, where the nodes lie along Gamma3
-    (position, axis label) and the piece of Gamma3 each lies on (suite.contact_pieces)."""
+    """A run folder: its name, contact.txt at T (its statuses and zone codes checked), mesh,
+    the zone code of each contact node, where the nodes lie along Gamma3 (position, axis
+    label) and the piece of Gamma3 each lies on (gamma3.contact_pieces)."""
 
     def __init__(self, folder):
-        self.folder = suite.run_folder(folder)
+        self.folder = runfiles.run_folder(folder)
         self.name = os.path.basename(os.path.normpath(os.path.abspath(folder)))
-        self.dimension = suite.run_dimension(folder)
-        self.contact = c = suite.read_table(self.file("contact.txt"))
+        self.dimension = runfiles.run_dimension(folder)
+        self.contact = c = runfiles.read_table(self.file("contact.txt"))
+        c.codes("normal_status", 0, 2)
+        c.codes("tangential_status", 0, 1)
+        self.zones = c.codes("zone", 0, len(style.ZONES) - 1)
         if self.dimension == 3:
-            self.init3(folder)
+            self.init3()
             return
         c.finite(*CONTACT_DRAWN)
-        self.mesh = suite.read_msh22(self.file("mesh.msh"))
-        self.law = suite.RunScene(folder, c.params, required=True)
-        self.zones = suite.zone_codes(c.codes("normal_status", 0, 2), c.codes("tangential_status", 0, 1))
-        self.position, self.axis = suite.contact_position(self.mesh, c["x"], c["y"])
-        self.pieces = suite.contact_pieces(self.mesh, c["x"], c["y"])
+        self.mesh = runfiles.read_msh22(self.file("mesh.msh"))
+        self.position, self.axis = gamma3.contact_position(self.mesh, c["x"], c["y"])
+        self.pieces = gamma3.contact_pieces(self.mesh, c["x"], c["y"])
 
-    def init3(self, folder):
-        """A 3D run: Gamma3 seen from outside (suite.ContactFace); for compare_contact, the
+    def init3(self):
+        """A 3D run: Gamma3 seen from outside (face3d.ContactFace); for compare_contact, the
         nodes' position is their first coordinate on the face, Gamma3 one piece."""
         c = self.contact
         c.finite(*CONTACT_DRAWN, *CONTACT_DRAWN_3D)
-        self.mesh = suite.read_msh3(self.file("mesh.msh"))
-        self.law = suite.RunScene(folder, c.params, required=True)
-        self.zones = suite.zone_codes(c.codes("normal_status", 0, 2), c.codes("tangential_status", 0, 1))
-        self.face = suite.ContactFace(self.mesh, c, self.file("mesh.msh"))
+        self.mesh = runfiles.read_msh3(self.file("mesh.msh"))
+        self.face = face3d.ContactFace(self.mesh, c, self.file("mesh.msh"))
         self.position, self.axis = self.face.uv[:, 0], self.face.labels[0]
         self.pieces = np.zeros(len(c), dtype=int)
 
@@ -87,7 +93,7 @@ class Run:
         return os.path.join(self.folder, "figures", name)
 
 
-CONTACT_DRAWN = ("x", "y", "v_nu", "p_nu", "lambda_nu", "lambda_tau", "friction_bound")   # contact.txt
+CONTACT_DRAWN = ("x", "y", "v_nu", "p_nu", "lambda_tau", "g", "damped_response", "friction_bound")   # contact.txt
 CONTACT_DRAWN_3D = ("z", "v_tau", "v_tau2", "lambda_tau2")                                # and in 3D
 
 
@@ -100,14 +106,14 @@ def contact_panels(fig_title, runs, shade):
         if run.dimension == 3:
             nodes_in_panels(axes, run, color, "" if shade else f"{run.name}: ")
             continue
-        s, v_nu, g, p_nu, lambda_nu, lambda_tau, bound = suite.along_gamma3(
-            run.position, run.pieces, c["v_nu"], run.law.g(c["x"]), c["p_nu"], c["lambda_nu"], c["lambda_tau"],
+        s, v_nu, g, p_nu, damped, lambda_tau, bound = gamma3.along_gamma3(
+            run.position, run.pieces, c["v_nu"], c["g"], c["p_nu"], c["damped_response"], c["lambda_tau"],
             c["friction_bound"])                        # broken across the gaps between pieces of Gamma3
         name = "" if shade else f"{run.name}: "
         axes[0].plot(s, v_nu, "o-", color=color, label=f"{name}$v_\\nu$")
         axes[0].plot(s, g, "--", color=color, linewidth=0.8, label=f"{name}bound g")
         axes[1].plot(s, p_nu, "o-", color=color, label=f"{name}$p_\\nu = p(v_\\nu) + \\lambda_\\nu$")
-        axes[1].plot(s, p_nu - lambda_nu, ":", color=color, label=f"{name}damped response $p(v_\\nu)$")
+        axes[1].plot(s, damped, ":", color=color, label=f"{name}damped response $p(v_\\nu)$")
         axes[2].plot(s, lambda_tau, "o-", color=color, label=f"{name}$\\lambda_\\tau$")
         axes[2].plot(s, bound, "--", color=color, linewidth=0.8, label=f"{name}$\\pm$ friction bound")
         axes[2].plot(s, -bound, "--", color=color, linewidth=0.8)
@@ -115,8 +121,8 @@ def contact_panels(fig_title, runs, shade):
         ax.set_ylabel(unit)
         handles = ax.get_legend_handles_labels()[0]
         if shade:
-            suite.shade_stretches(ax, suite.stretches(runs[0].position, runs[0].zones, runs[0].pieces), ZONE_COLORS)
-            handles += suite.zone_patches(runs[0].zones, alpha=0.3) if ax is axes[0] else []
+            gamma3.shade_stretches(ax, gamma3.stretches(runs[0].position, runs[0].zones, runs[0].pieces), ZONE_COLORS)
+            handles += style.zone_patches(runs[0].zones, alpha=0.3) if ax is axes[0] else []
         ax.legend(handles=handles, fontsize=7, loc="upper left", bbox_to_anchor=(1.01, 1.0))
     axes[2].set_xlabel(runs[0].axis if len({run.axis for run in runs}) == 1 else "position along $\\Gamma_3$ [m]")
     axes[0].set_title(fig_title)
@@ -130,11 +136,11 @@ def nodes_in_panels(axes, run, color, name):
     that coordinate and +- the bound."""
     c, face = run.contact, run.face
     s, dash = run.position, dict(marker="_", linestyle="none", markersize=7, color=color)
-    across = suite.direction_name(face.t1)
+    across = face3d.direction_name(face.t1)
     axes[0].plot(s, c["v_nu"], "o", color=color, label=f"{name}$v_\\nu$ (3D, every node)")
-    axes[0].plot(s, run.law.g(c["x"]), label=f"{name}bound g", **dash)
+    axes[0].plot(s, c["g"], label=f"{name}bound g", **dash)
     axes[1].plot(s, c["p_nu"], "o", color=color, label=f"{name}$p_\\nu = p(v_\\nu) + \\lambda_\\nu$ (3D, every node)")
-    axes[1].plot(s, c["p_nu"] - c["lambda_nu"], ".", color=color, label=f"{name}damped response $p(v_\\nu)$")
+    axes[1].plot(s, c["damped_response"], ".", color=color, label=f"{name}damped response $p(v_\\nu)$")
     axes[2].plot(s, face.tangential(c["lambda_tau"], c["lambda_tau2"])[:, 0], "o", color=color,
                  label=f"{name}$\\lambda_\\tau$ along {across} (3D, every node)")
     axes[2].plot(s, c["friction_bound"], label=f"{name}$\\pm$ friction bound", **dash)
@@ -144,7 +150,7 @@ def nodes_in_panels(axes, run, color, name):
 def contact_at_T(run):
     """v_nu with g, p_nu, lambda_tau with +-friction_bound along Gamma3 at T, zones shaded."""
     p = run.contact.params
-    return contact_panels(f"{run.name}: contact on $\\Gamma_3$ at T = {p['T']} ({suite.problem_label(p)})", [run], True)
+    return contact_panels(f"{run.name}: contact on $\\Gamma_3$ at T = {p['T']} ({style.problem_label(p)})", [run], True)
 
 
 def compare_contact(runs):
@@ -154,20 +160,21 @@ def compare_contact(runs):
 
 def histories(run):
     """Against t: the contact forces, the nodes per zone, the energy terms, the energy balance."""
-    h = suite.read_table(run.file("contact_history.txt"))
-    e = suite.read_table(run.file("history.txt"))
-    h.finite("t", "normal_force", "tangential_force", *(zone.column for zone in suite.ZONES))
-    e.finite("t", "energy_residual", *(column for column, _, _ in suite.ENERGY_TERMS))
+    h = runfiles.read_table(run.file("contact_history.txt"))
+    e = runfiles.read_table(run.file("history.txt"))
+    h.finite("t", "normal_force", "tangential_force", *(zone.column for zone in style.ZONES))
+    e.finite("t", "energy_residual", *(column for column, _, _ in style.ENERGY_TERMS))
     fig, ((forces, zones), (energy, residual)) = plt.subplots(2, 2, figsize=(11, 7))
     forces.plot(h["t"], h["normal_force"], label=r"normal force $\sum_i w_i\, p_{\nu,i}$")
     if run.dimension == 3:
-        # the total friction stress as a vector on Gamma3's mean frame (summary.txt; runs from
-        # before it was written: the frame of the face's mean normal)
+        # the total friction stress as a vector on Gamma3's mean frame (summary.txt)
         second = h.finite("tangential_force2")[0]
-        summary = suite.read_summary(run.folder)
-        axes = ([np.array([float(w) for w in summary[key].split()]) for key in ("contact_frame_t1", "contact_frame_t2")]
-                if "contact_frame_t1" in summary and "contact_frame_t2" in summary else (run.face.t1, run.face.t2))
-        t1, t2 = (suite.direction_name(t) for t in axes)
+        summary = runfiles.read_summary(run.folder)
+        try:
+            axes = [np.array([float(w) for w in summary[key].split()]) for key in ("contact_frame_t1", "contact_frame_t2")]
+        except ValueError:
+            raise runfiles.InputError(f"{summary.source}: contact_frame_t1, contact_frame_t2 need numbers") from None
+        t1, t2 = (face3d.direction_name(t) for t in axes)
         forces.plot(h["t"], h["tangential_force"], label=f"friction stress on $T_1$ ({t1}): "
                                                           r"$\sum_i w_i\, \mathbf{\lambda}_{\tau,i} \cdot T_1$")
         forces.plot(h["t"], second, "-.", label=f"friction stress on $T_2$ ({t2}): "
@@ -181,8 +188,8 @@ def histories(run):
         forces.set_ylabel("force per unit thickness [GPa m]")
     forces.set_title(f"{run.name}: contact forces on $\\Gamma_3$")
     forces.legend(fontsize=7)
-    suite.zone_counts_plot(zones, h)
-    suite.energy_terms_plot(energy, e)
+    style.zone_counts_plot(zones, h)
+    style.energy_terms_plot(energy, e)
     if run.dimension == 3:
         energy.set_ylabel("energy [GJ]")
     energy.set_title("energies at $t_n$, cumulative dissipations and work")
@@ -196,42 +203,28 @@ def histories(run):
 
 def deformed(run):
     """The deformed mesh at T (magnified when the displacements are small, the factor in the
-    title), coloured by the von Mises stress (by |v| without that column), the undeformed
-    outline in grey, the contact nodes by zone; the figure shaped to the body."""
-    f = suite.read_table(run.file("fields.txt"))
+    title), coloured by the von Mises stress, the undeformed outline in grey, the contact
+    nodes by zone; the figure shaped to the body."""
+    f = runfiles.read_table(run.file("fields.txt"))
     xy, u = np.column_stack(f.finite("x", "y")), np.column_stack(f.finite("u_x", "u_y"))
     if len(xy) != len(run.mesh.xy):
-        raise suite.InputError(f"{f.path}: {len(xy)} vertices, but {len(run.mesh.xy)} in mesh.msh")
-    factor = suite.magnification(np.ptp(xy, axis=0).max(), np.hypot(*u.T).max())
+        raise runfiles.InputError(f"{f.path}: {len(xy)} vertices, but {len(run.mesh.xy)} in mesh.msh")
+    factor = style.magnification(np.ptp(xy, axis=0).max(), np.hypot(*u.T).max())
     moved = xy + factor * u
-    if "von_mises" in f:
-        values, label = f.finite("von_mises")[0], "von Mises stress [GPa]"
-    else:
-        values, label = np.hypot(*f.finite("v_x", "v_y")), "|v| [m/s] (fields.txt has no von_mises)"
+    values, label = f.finite("von_mises")[0], "von Mises stress [GPa]"
     scale = "true scale" if factor == 1 else f"displacements magnified {factor:g} times"
-    fig, ax = suite.body_figure(np.r_[xy, moved], f"{run.name}: deformed at T = {f.params['T']} ({scale}), "
+    fig, ax = style.body_figure(np.r_[xy, moved], f"{run.name}: deformed at T = {f.params['T']} ({scale}), "
                                                   "contact nodes by zone", legend=(1 + len(set(run.zones)), 3, 2.4))
     shown = ax.tripcolor(mtri.Triangulation(*moved.T, run.mesh.triangles), values, shading="gouraud", cmap="viridis")
     fig.colorbar(shown, ax=ax, label=label, shrink=0.8)
-    edges = suite.boundary_edges(run.mesh.triangles)
+    edges = gamma3.boundary_edges(run.mesh.triangles)
     ax.add_collection(mcollections.LineCollection(xy[edges], colors="0.6", linewidths=0.8, label="undeformed outline"))
-    nodes = suite.nearest(xy, np.c_[run.contact["x"], run.contact["y"]])
+    nodes = gamma3.nearest(xy, np.c_[run.contact["x"], run.contact["y"]])
     ax.scatter(*moved[nodes].T, c=[ZONE_COLORS[z] for z in run.zones], s=14, edgecolors="k", linewidths=0.4, zorder=3)
-    handles = ax.get_legend_handles_labels()[0] + suite.zone_patches(run.zones)
+    handles = ax.get_legend_handles_labels()[0] + style.zone_patches(run.zones)
     ax.legend(handles=handles, fontsize=7, loc="upper center", bbox_to_anchor=(0.5, -0.12),
-              ncol=suite.legend_columns(fig, 3, 2.4))
+              ncol=style.legend_columns(fig, 3, 2.4))
     return fig
-
-
-def zone_history(run):
-    """contact_nodes_history.txt as (t of the recorded steps, zones (steps, nodes)), the
-    nodes in the order of contact.txt."""
-    h = suite.read_table(run.file("contact_nodes_history.txt"))
-    steps, nodes = np.unique(h["step"]), len(run.contact)
-    if len(h) != len(steps) * nodes or not np.array_equal(h["node"], np.tile(np.arange(nodes), len(steps))):
-        raise suite.InputError(f"{h.path}: not {nodes} rows (nodes 0 to {nodes - 1}) for each of its {len(steps)} steps")
-    zones = h.codes("zone", 0, len(suite.ZONES) - 1)
-    return h.finite("t")[0][::nodes], zones.reshape(len(steps), nodes)
 
 
 def steps_against_t(t, values):
@@ -258,25 +251,25 @@ def zone_map(run):
     pieces of Gamma3 blank) at every recorded step (rows: a step's zones drawn from the
     previous recorded time to its own), with the steps of x_B(t) and x_C(t) of
     contact_history.txt over it when the position is x."""
-    t, zones = zone_history(run)
-    edges, columns = suite.map_columns(run.position, run.pieces)
+    _, t, zones = runfiles.node_history(run.file("contact_nodes_history.txt"), len(run.contact))
+    edges, columns = gamma3.map_columns(run.position, run.pieces)
     fig, ax = plt.subplots(figsize=(10, 6))
     ax.grid(False)
-    colors = mcolors.ListedColormap([zone.color for zone in suite.ZONES])
-    norm = mcolors.BoundaryNorm(np.arange(len(suite.ZONES) + 1) - 0.5, len(suite.ZONES))
+    colors = mcolors.ListedColormap([zone.color for zone in style.ZONES])
+    norm = mcolors.BoundaryNorm(np.arange(len(style.ZONES) + 1) - 0.5, len(style.ZONES))
     shown = np.ma.masked_array(zones[:, columns], mask=np.tile(columns < 0, (len(t), 1)))
     ax.pcolormesh(edges, np.r_[min(0.0, t[0]), t], shown, cmap=colors, norm=norm)
-    handles = suite.zone_patches()
+    handles = style.zone_patches()
     if run.axis == "x [m]":
-        h = suite.read_table(run.file("contact_history.txt"))
-        for column, style, color, meaning, none in (
+        h = runfiles.read_table(run.file("contact_history.txt"))
+        for column, line, color, meaning, none in (
                 ("x_B", "-", "k", "first node at the bound", "no node at the bound"),
                 ("x_C", "--", "tab:blue", "first sticking node in contact", "no sticking node in contact")):
             values = h[column]
             if np.isinf(values).any():
-                raise suite.InputError(f"{h.path}: {column} is infinite at a step")
+                raise runfiles.InputError(f"{h.path}: {column} is infinite at a step")
             label = boundary_label(values, f"${column[0]}_{column[2]}$", meaning, none, edges)
-            handles += ax.plot(*steps_against_t(h.finite("t")[0], values), style, color=color, linewidth=1.5,
+            handles += ax.plot(*steps_against_t(h.finite("t")[0], values), line, color=color, linewidth=1.5,
                                label=label)
     pad = 0.015 * (edges[-1] - edges[0])           # a line at the map's edge (x_B = 0) stays in sight
     ax.set_xlim(edges[0] - pad, edges[-1] + pad)
@@ -290,12 +283,12 @@ def zone_map(run):
 
 # ---------------------------------------------------------------- 3D runs
 def face_grid(face, maps, width=11.0, highest=4.2, plain=3.0):
-    """A figure of `maps` maps of Gamma3 (suite.ContactFace, at equal aspect, each with its
+    """A figure of `maps` maps of Gamma3 (face3d.ContactFace, at equal aspect, each with its
     colour bar as high as it) and one plain axes after them, laid out by hand in inches for
     the face's shape: one column for a face more than 2.5 times as wide as high (a slab's),
     else two. Returns (fig, [(map axes, colour bar axes)], the plain axes)."""
     left, right, title, below, top = 0.75, 1.2, 0.55, 0.5, 0.75     # margins (inches): labels, colour bar, titles
-    w, h = face.extent() + 0.08 * face.extent().max()              # with the margins of suite.face_axes
+    w, h = face.extent() + 0.08 * face.extent().max()              # with the margins of face3d.face_axes
     columns = 1 if h < 0.4 * w else 2
     map_width = (width - columns * (left + right)) / columns
     map_height = min(map_width * h / w, highest)
@@ -332,7 +325,7 @@ def face_map(fig, axes, run, values, label, title, norm=None):
     shown = ax.tripcolor(mtri.Triangulation(*face.uv.T, face.triangles), values, shading="gouraud", cmap="viridis",
                          norm=norm)
     ax.add_collection(mcollections.LineCollection(face.uv[face.edges()], colors="w", linewidths=0.4, alpha=0.35))
-    suite.face_axes(ax, face)
+    face3d.face_axes(ax, face)
     ax.set_title(title)
     bar = fig.colorbar(shown, cax=room, label=label)
     bar.formatter.set_useOffset(False)
@@ -340,14 +333,14 @@ def face_map(fig, axes, run, values, label, title, norm=None):
 
 
 def contact_at_T3(run):
-    """A 3D run's contact on Gamma3 at T, the face seen from outside (suite.ContactFace):
+    """A 3D run's contact on Gamma3 at T, the face seen from outside (face3d.ContactFace):
     maps of v_nu (the bound g marked on its colour bar), p_nu, and |v_tau| with the slip
     velocity of each slipping node as an arrow; |lambda_tau| of every node against its bound
     mu p(v_nu), coloured by zone."""
     c, face = run.contact, run.face
     p = c.params
     fig, (normal, pressure, slip), cone = face_grid(face, 3)
-    v_nu, g = c["v_nu"], run.law.g(c["x"])
+    v_nu, g = c["v_nu"], c["g"]
     bar = face_map(fig, normal, run, v_nu, "$v_\\nu$ [m/s]", "normal velocity $v_\\nu$\n(red on its scale: the bound g)",
                    norm=mcolors.Normalize(min(v_nu.min(), 0.0), max(v_nu.max(), g.max())))
     for value in sorted({g.min(), g.max()}):                  # the bound (its least and largest on Gamma3)
@@ -378,9 +371,9 @@ def contact_at_T3(run):
     cone.set_ylabel("$|\\lambda_\\tau|$ [GPa]")
     cone.set_title("friction: $|\\lambda_\\tau|$ of each node against its bound" if bound.max() > 0 else
                    "friction: the bound $\\mu\\, p(v_\\nu)$ is 0 at every node (frictionless)")
-    cone.legend(handles=cone.get_legend_handles_labels()[0] + suite.zone_patches(run.zones), fontsize=7,
+    cone.legend(handles=cone.get_legend_handles_labels()[0] + style.zone_patches(run.zones), fontsize=7,
                 loc="upper left", bbox_to_anchor=(1.01, 1.0))
-    fig.suptitle(f"{run.name}: contact on $\\Gamma_3$ at T = {p['T']} ({suite.problem_label(p)})\n{face.view}"
+    fig.suptitle(f"{run.name}: contact on $\\Gamma_3$ at T = {p['T']} ({style.problem_label(p)})\n{face.view}"
                  + ("; $\\Gamma_3$ overlaps itself in this view" if face.folded else ""), fontsize=10)
     return fig
 
@@ -393,9 +386,9 @@ def zone_map3(run):
     w, h = face.extent()
     height = min(8.0 * h / w, 6.5)
     fig, ax = plt.subplots(figsize=(10.8, max(height, 1.8) + 1.4))
-    suite.draw_face_zones(ax, face, run.zones)
-    ax.legend(handles=suite.zone_patches(run.zones), fontsize=7, loc="upper left", bbox_to_anchor=(1.01, 1.0),
-              title=f"{suite.nodes(len(run.zones))} at T", title_fontsize=7)
+    face3d.draw_face_zones(ax, face, run.zones)
+    ax.legend(handles=style.zone_patches(run.zones), fontsize=7, loc="upper left", bbox_to_anchor=(1.01, 1.0),
+              title=f"{style.nodes(len(run.zones))} at T", title_fontsize=7)
     ax.set_title(f"{run.name}: zones on $\\Gamma_3$ at T = {run.contact.params['T']}, each node's cell (halfway to its "
                  f"neighbours) in its zone's colour\n{face.view}"
                  + ("; $\\Gamma_3$ overlaps itself in this view" if face.folded else ""), fontsize=9)
@@ -407,26 +400,23 @@ VIEWS = ((28, -55, "from above"), (-40, -55, "from below: $\\Gamma_3$, its nodes
 
 def deformed3(run):
     """A 3D run's body at T, its outer surface deformed (magnified as in 2D), each triangle
-    coloured by the von Mises stress (by |v| without it) of its corners, seen from above and
+    coloured by the von Mises stress of its corners, seen from above and
     from below (the contact nodes by zone there), the undeformed edges in grey."""
     from mpl_toolkits.mplot3d import proj3d
     from mpl_toolkits.mplot3d.art3d import Line3DCollection, Poly3DCollection
-    f = suite.read_table(run.file("fields.txt"))
+    f = runfiles.read_table(run.file("fields.txt"))
     xyz, u = np.column_stack(f.finite("x", "y", "z")), np.column_stack(f.finite("u_x", "u_y", "u_z"))
     if len(xyz) != len(run.mesh.xyz):
-        raise suite.InputError(f"{f.path}: {len(xyz)} vertices, but {len(run.mesh.xyz)} in mesh.msh")
+        raise runfiles.InputError(f"{f.path}: {len(xyz)} vertices, but {len(run.mesh.xyz)} in mesh.msh")
     size = float(np.ptp(xyz, axis=0).max())
     moved_off = np.flatnonzero(np.abs(xyz - run.mesh.xyz).max(axis=1) > 1e-9 * size)
     if moved_off.size:
-        raise suite.InputError(f"{f.path}:{f.lines[moved_off[0]]}: not the vertex {moved_off[0] + 1} of mesh.msh")
-    factor = suite.magnification(size, np.linalg.norm(u, axis=1).max())
+        raise runfiles.InputError(f"{f.path}:{f.lines[moved_off[0]]}: not the vertex {moved_off[0] + 1} of mesh.msh")
+    factor = style.magnification(size, np.linalg.norm(u, axis=1).max())
     moved = xyz + factor * u
-    if "von_mises" in f:
-        values, label = f.finite("von_mises")[0], "von Mises stress [GPa]"
-    else:
-        values, label = np.linalg.norm(np.column_stack(f.finite("v_x", "v_y", "v_z")), axis=1), "|v| [m/s]"
-    surface = suite.outer_surface(run.mesh.tetrahedra, xyz)
-    outline = xyz[suite.feature_edges(surface, xyz)]
+    values, label = f.finite("von_mises")[0], "von Mises stress [GPa]"
+    surface = face3d.outer_surface(run.mesh.tetrahedra, xyz)
+    outline = xyz[face3d.feature_edges(surface, xyz)]
     norm = mcolors.Normalize(float(values.min()), float(values.max()))
     if np.ptp(values) <= 1e-3 * np.abs(values).max():           # the same everywhere: round-off is no pattern
         norm = mcolors.Normalize(min(0.0, float(values.min())), max(0.0, float(values.max())) or 1.0)
@@ -464,7 +454,7 @@ def deformed3(run):
             axis.set_major_locator(mticker.MaxNLocator(4 if extent > 0.2 * (high - low).max() else 1))
         ax.tick_params(labelsize=7)
         fig.text(0.03 + 0.43 * k, 0.905, title, fontsize=10)
-    handles = [mlines.Line2D([], [], color="0.55", label="undeformed edges")] + suite.zone_patches(run.zones)
+    handles = [mlines.Line2D([], [], color="0.55", label="undeformed edges")] + style.zone_patches(run.zones)
     fig.legend(handles=handles, loc="lower center", ncol=len(handles), fontsize=7)
     fig.subplots_adjust(left=0.0, right=0.86, bottom=0.08, top=0.84, wspace=0.1)
     bar = fig.add_axes((0.905, 0.2, 0.015, 0.6))
@@ -476,7 +466,7 @@ def deformed3(run):
     return fig
 
 
-# The figures of one run and the files each needs beyond contact.txt, mesh.msh and scene.scene.
+# The figures of one run and the files each needs beyond contact.txt and mesh.msh.
 FIGURES = (("contact_at_T", contact_at_T, ()), ("histories", histories, ("contact_history.txt", "history.txt")),
            ("deformed", deformed, ("fields.txt",)),
            ("zone_map", zone_map, ("contact_nodes_history.txt", "contact_history.txt")))
@@ -502,12 +492,12 @@ def plan(runs):
 
 
 def main():
-    suite.check_arguments("run_figures.py")             # a name not in UTF-8: refused before anything
+    runfiles.check_arguments("run_figures.py")             # a name not in UTF-8: refused before anything
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("folders", nargs="+", metavar="RUN_DIR")
     runs = [Run(folder) for folder in parser.parse_args().folders]      # every folder checked first
     figures = plan(runs)
-    files = suite.FigureFiles([path for path, _ in figures])            # refuses to draw over a file not ours
+    files = figurefiles.FigureFiles([path for path, _ in figures])            # refuses to draw over a file not ours
     for path, figure in figures:
         fig = figure()
         files.save(fig, path, tight_layout=not getattr(fig, "no_tight_layout", False))
@@ -517,4 +507,4 @@ def main():
 
 
 if __name__ == "__main__":
-    suite.run_tool("run_figures.py", main, code=2)
+    runfiles.run_tool("run_figures.py", main, code=2, cleanup=figurefiles.abort_pending)

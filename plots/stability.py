@@ -12,12 +12,15 @@ import argparse
 import os
 import sys
 
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.dirname(os.path.abspath(__file__))), "edp"))
+
 import matplotlib.patches as mpatches
 
-import suite
+import runfiles
+import style
 
-# suite.STYLE, with smaller text, no grid over the cells, and the legend outside the axes kept
-plt = suite.pyplot({"font.size": 8, "axes.titlesize": 9, "axes.grid": False, "savefig.bbox": "tight"})
+# style.STYLE, with smaller text, no grid over the cells, and the legend outside the axes kept
+plt = style.pyplot({"font.size": 8, "axes.titlesize": 9, "axes.grid": False, "savefig.bbox": "tight"})
 MODE_COLORS = {
     "ok": "#7fc97f", "slow": "#ffff99", "stalled": "#fdc086", "floor": "#80b1d3", "stuck": "#bebada",
     "cycling": "#e41a1c", "diverging": "#984ea3", "cap": "#cccccc", "nonfinite": "#222222",
@@ -34,7 +37,7 @@ METHOD_ORDER = ["orig-newton-on", "orig-newton-off", "orig-fixedpoint", "pen-new
 
 def rows_of(results, sweep):
     """The rows of results/SWEEP.txt, one dict column name -> text per run."""
-    return suite.read_table(os.path.join(results, f"{sweep}.txt"), dtype=str, empty=True).rows()
+    return runfiles.read_table(os.path.join(results, f"{sweep}.txt"), dtype=str, empty=True).rows()
 
 
 def cell_text(row):
@@ -89,7 +92,7 @@ def methods_present(rows):
 
 
 def save(fig, out, name):
-    print(f"stability.py: wrote {suite.save(fig, out, 'stability_' + name, tight_layout=False)}")
+    print(f"stability.py: wrote {style.save(fig, out, 'stability_' + name, tight_layout=False)}")
 
 
 def method_map(results, out, sweep, xkey, xlabel, title, name):
@@ -233,24 +236,24 @@ SOURCES = {"eps_method": "eps", "r_method": "r", "k_mu": "kmu", "mu_method": "mu
 
 
 def main():
-    suite.check_arguments("stability.py")               # a name not in UTF-8: refused before anything
+    runfiles.check_arguments("stability.py")               # a name not in UTF-8: refused before anything
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("--results", required=True, help="results/stability")
     parser.add_argument("--out", required=True, help="folder of the PNG files")
     parser.add_argument("names", nargs="*", help="maps to draw (default all): " + " ".join(MAPS))
     args = parser.parse_args()
-    suite.check_outputs("stability.py", [args.out])     # not written through a symbolic link
+    runfiles.check_outputs("stability.py", [args.out])     # not written through a symbolic link
     unknown = [n for n in args.names if n not in MAPS]
     if unknown:
-        print(f"stability.py: error: unknown map {suite.shown(unknown[0])} (maps: {' '.join(MAPS)})", file=sys.stderr)
+        print(f"stability.py: error: unknown map {runfiles.shown(unknown[0])} (maps: {' '.join(MAPS)})", file=sys.stderr)
         sys.exit(2)
     os.makedirs(args.out, exist_ok=True)
     for name in args.names or MAPS:
         if not os.path.isfile(os.path.join(args.results, f"{SOURCES[name]}.txt")):
-            print(f"stability.py: no {SOURCES[name]}.txt in {suite.shown(args.results)}: {name} skipped")
+            print(f"stability.py: no {SOURCES[name]}.txt in {runfiles.shown(args.results)}: {name} skipped")
             continue
         MAPS[name](args.results, args.out)
 
 
 if __name__ == "__main__":
-    suite.run_tool("stability.py", main)
+    runfiles.run_tool("stability.py", main)

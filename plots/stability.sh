@@ -43,7 +43,6 @@ cd "$root"
 export FF_LOADPATH="${FF_LOADPATH:-/usr/lib/freefem++}"
 export OPENBLAS_NUM_THREADS="${OPENBLAS_NUM_THREADS:-1}"
 export MPLBACKEND=Agg
-export PYTHONPATH="$root/plots:$root/tests${PYTHONPATH:+:$PYTHONPATH}"   # plots/suite.py; tests/check_results.py (its Checker)
 PYTHON="${PYTHON:-/usr/bin/python3}"
 out="${RESULTS_DIR:-$root/results}/stability"
 runs="$out/runs"

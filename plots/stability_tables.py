@@ -29,10 +29,11 @@ import math
 import os
 import sys
 
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.dirname(os.path.abspath(__file__))), "edp"))
+
 import numpy as np
 
-from check_results import Checker  # first: it stops with a clear line when suite is not on PYTHONPATH
-import suite
+import runfiles
 
 AGREEMENT_RTOL = 1e-8
 METHOD_OPTIONS = ("solver", "safeguard", "penaltyform", "r", "maxit", "out")
@@ -44,17 +45,17 @@ COLUMNS = ("id method problem solver safeguard penaltyform nx ny T dt mu load ep
 
 def read_record(path):
     """One record ID.rec of plots/stability.sh ('key=value' lines), with the options of its
-    run: given (from its command line) and opts (all of them, suite.effective_options)."""
-    record = suite.Values(path)
-    for line in suite.read_lines(path):
+    run: given (from its command line) and opts (all of them, runfiles.effective_options)."""
+    record = runfiles.Values(path)
+    for line in runfiles.read_lines(path):
         key, _, value = line.partition("=")
         record[key] = value
     words = record["options"].split()
     given = {words[i].lstrip("-"): words[i + 1] for i in range(0, len(words) - 1, 2)}
     try:
-        record["opts"] = suite.effective_options(given)
-    except suite.InputError as error:
-        raise suite.InputError(f"{path}: {error}") from None
+        record["opts"] = runfiles.effective_options(given)
+    except runfiles.InputError as error:
+        raise runfiles.InputError(f"{path}: {error}") from None
     record["given"] = given
     return record
 
@@ -81,7 +82,7 @@ def classify(record):
         return ("ok", 0) + none
     if code in (124, 137):
         return ("timeout", 0) + none
-    failure = suite.solver_failure(record["message"])
+    failure = runfiles.solver_failure(record["message"])
     fail = (failure.step, failure.iterations, failure.residual) if failure else (float("nan"),) * 3
     if code == 5:
         return ("nonfinite", 0) + fail + (float("nan"),)
@@ -133,7 +134,7 @@ def build_rows(results):
         o = record["opts"]
         folder = path[:-4]
         converged = record["exit"] == "0" and os.path.isfile(os.path.join(folder, "summary.txt"))
-        summary = suite.read_summary(folder) if converged else suite.Values(folder)
+        summary = runfiles.read_summary(folder) if converged else runfiles.Values(folder)
         mode, period, step, iterations, residual, half = classify(record)
 
         def num(key):
@@ -155,7 +156,7 @@ def build_rows(results):
 
 
 def write_sweep(path, rows, title):
-    suite.write_table(path, [title, "written by plots/stability_tables.py from runs/*/*.rec; mode: see its docstring;",
+    runfiles.write_table(path, [title, "written by plots/stability_tables.py from runs/*/*.rec; mode: see its docstring;",
                              "iter_mean = iterations_total/steps, iter_max = iterations_max (converged runs);",
                              "fail_*: the failing step, its iteration count and residual; half_residual: the residual",
                              "of the same step with -maxit cap/2; period: of an exact cycle (0 none); wall_s: seconds"],
@@ -177,15 +178,15 @@ def method_rank(row):
 
 
 def max_difference(folder, other, floors):
-    """Largest relative differences of the columns check_results.py --compare reads: its own
-    formula (scale = the column's largest |value|), and the same with the scale at least the
-    physical floor of the column (p(g) for stresses, g for velocities), so that a column that is
-    zero up to round-off (lambda_tau when mu = 0) does not count as a difference of 1."""
+    """Largest relative differences of the columns compared: scale = the column's largest
+    |value|, and the same with the scale at least the law's scale of the column (p(g) for
+    stresses, g for velocities), so that a column that is zero up to round-off (lambda_tau
+    when mu = 0) does not count as a difference of 1."""
     plain, floored = 0.0, 0.0
     for name, cols in (("contact.txt", ("v_nu", "v_tau", "p_nu", "lambda_nu", "lambda_tau")),
                        ("fields.txt", ("u_x", "u_y", "v_x", "v_y"))):
-        a = suite.read_table(os.path.join(folder, name))
-        b = suite.read_table(os.path.join(other, name))
+        a = runfiles.read_table(os.path.join(folder, name))
+        b = runfiles.read_table(os.path.join(other, name))
         for col in cols:
             x, y = a[col], b[col]
             scale = max(np.abs(x).max(), np.abs(y).max(), 1e-300)
@@ -211,15 +212,13 @@ def agreement(rows):
         if len(unique) < 2:
             continue
         reference = unique[0]
-        o = reference["record"]["opts"]
-        g = o.real("g")
-        force = o.real("cnu") * g or 1.0
+        law = runfiles.read_table(os.path.join(reference["folder"], "contact.txt"))     # the law's scales: g, p(g)
+        g, force = float(law["g"].max()), float(law["force_scale"].max())
         floors = {"v_nu": g, "v_tau": g, "v_x": g, "v_y": g, "p_nu": force, "lambda_nu": force, "lambda_tau": force}
         for other in unique[1:]:
-            check = Checker(reference["folder"])
-            check.compare(other["folder"], AGREEMENT_RTOL)
+            differences = runfiles.compare_runs(reference["folder"], other["folder"], AGREEMENT_RTOL)
             plain, floored = max_difference(reference["folder"], other["folder"], floors)
-            pairs.append((reference, other, plain, floored, not check.failures, floored <= AGREEMENT_RTOL))
+            pairs.append((reference, other, plain, floored, not differences, floored <= AGREEMENT_RTOL))
     return pairs
 
 
@@ -234,9 +233,9 @@ def write_agreement(path, pairs):
         f.write("# -solver, -safeguard, -penaltyform, -r, -maxit. Reference: Newton with safeguards, compliant\n")
         f.write("# form, r = 1 when it converged. Columns compared: contact.txt v_nu v_tau p_nu lambda_nu\n")
         f.write("# lambda_tau, fields.txt u_x u_y v_x v_y.\n")
-        f.write(f"#   max_rel: largest relative difference, scale = the column's largest |value| (the formula of\n")
-        f.write(f"#     tests/check_results.py --compare); check_results = 1 if it passes at --rtol {AGREEMENT_RTOL:g}\n")
-        f.write("#   max_rel_floor: the same with the scale at least p(g) = c_nu g (stresses) or g (velocities):\n")
+        f.write("#   max_rel: largest relative difference, scale = the column's largest |value|; check_results = 1\n")
+        f.write(f"#     if tests/check_results.py --compare (edp/runfiles.py, compare_runs) passes at --rtol {AGREEMENT_RTOL:g}\n")
+        f.write("#   max_rel_floor: the same with the scale at least p(g) (force_scale: stresses) or g (velocities):\n")
         f.write("#     a column that is zero up to round-off (lambda_tau at mu = 0) is not a difference of 1\n")
         f.write(f"#   ok = max_rel_floor <= {AGREEMENT_RTOL:g}\n")
         f.write("# problem nx ny T dt mu load eps reference other other_sweep other_id max_rel check_results max_rel_floor ok\n")
@@ -358,4 +357,4 @@ def main():
 
 
 if __name__ == "__main__":
-    suite.run_tool("stability_tables.py", main)
+    runfiles.run_tool("stability_tables.py", main)

@@ -32,10 +32,13 @@ import argparse
 import math
 import os
 import re
+import sys
+
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.dirname(os.path.abspath(__file__))), "edp"))
 
 import numpy as np
 
-import suite
+import runfiles
 
 PAPER_AB, PAPER_BC = 15, 29     # paper section 5: zone AB 15 nodes, zone BC 29 nodes
 TAIL = 4                        # the slope is fitted on the TAIL smallest eps
@@ -43,7 +46,7 @@ COORDINATE_TOL = 1e-12          # node coordinates of two runs must agree to thi
 
 
 def fail(message):
-    raise suite.InputError(message)
+    raise runfiles.InputError(message)
 
 
 def consistent_mass_norm2(xy, triangles, values):
@@ -93,8 +96,8 @@ def mesh_label(summary):
 def zones_table(results):
     rows = []
     for name, folder in run_folders(results):
-        s = suite.read_summary(folder)
-        history = suite.read_table(os.path.join(folder, "contact_history.txt"))
+        s = runfiles.read_summary(folder)
+        history = runfiles.read_table(os.path.join(folder, "contact_history.txt"))
         penalty = s["problem"] == "penalty"
         rows.append([
             name, s["problem"], s.real("eps") if penalty else math.nan, s.real("dt"), mesh_label(s),
@@ -102,7 +105,7 @@ def zones_table(results):
             s.integer("zone_damped_stick") + s.integer("zone_bound_stick"),
             float(history["x_B"][-1]), float(history["x_C"][-1]), PAPER_AB, PAPER_BC])
     path = os.path.join(results, "zones.txt")
-    suite.write_table(path, ["zones on Gamma3 at T (summary.txt) and zone boundaries at T (last line of contact_history.txt)",
+    runfiles.write_table(path, ["zones on Gamma3 at T (summary.txt) and zone boundaries at T (last line of contact_history.txt)",
                              "AB zone_damped_slip, BC zone_bound_slip, CD zone_damped_stick + zone_bound_stick; eps nan for the original problem"],
                       "run problem eps dt mesh free AB BC CD x_B x_C paper_AB paper_BC".split(), rows)
     print(f"tables.py: zones on Gamma3 at T -> {path}")
@@ -114,13 +117,13 @@ def zones_table(results):
 
 def mesh_of(folder):
     """Nodes (x, y in file order) and triangles of a run's mesh.msh."""
-    mesh = suite.read_msh22(os.path.join(folder, "mesh.msh"))
+    mesh = runfiles.read_msh22(os.path.join(folder, "mesh.msh"))
     return mesh.xy, mesh.triangles
 
 
 def velocity_field(folder, xy):
     """(v_x, v_y) at every node of fields.txt, after checking that its rows are the mesh nodes."""
-    fields = suite.read_table(os.path.join(folder, "fields.txt"))
+    fields = runfiles.read_table(os.path.join(folder, "fields.txt"))
     coordinates = np.column_stack([fields["x"], fields["y"]])
     if coordinates.shape != xy.shape or np.max(np.abs(coordinates - xy)) > COORDINATE_TOL:
         fail(f"{folder}/fields.txt: its rows are not the nodes of the reference mesh")
@@ -132,9 +135,9 @@ def compare_runs(reference, folder):
     |dv_nu| and |dv_tau|, max over all nodes of |dv|, and ||dv||_L2(Omega) with the consistent
     mass matrix when both runs have the same triangles (nan otherwise: on two different
     triangulations of the same nodes the difference is not a P1 field of either)."""
-    s = suite.read_summary(folder)
-    contact_ref = suite.read_table(os.path.join(reference, "contact.txt"))
-    contact = suite.read_table(os.path.join(folder, "contact.txt"))
+    s = runfiles.read_summary(folder)
+    contact_ref = runfiles.read_table(os.path.join(reference, "contact.txt"))
+    contact = runfiles.read_table(os.path.join(folder, "contact.txt"))
     if len(contact["x"]) != len(contact_ref["x"]) or np.max(np.abs(contact["x"] - contact_ref["x"])) > COORDINATE_TOL:
         fail(f"{folder}: its Gamma3 nodes are not those of {reference}")
     xy, triangles = mesh_of(reference)
@@ -160,14 +163,14 @@ def choices_table(results):
     rows = []
     for name, folder in run_folders(results):
         if name.startswith("choices/"):
-            problem = suite.read_summary(folder)["problem"]
+            problem = runfiles.read_summary(folder)["problem"]
             row = compare_runs(os.path.join(results, f"paper-{problem}"), folder)
             row.update(run=name, reference=f"paper-{problem}")
             rows.append(row)
     if not rows:
         return rows
     path = os.path.join(results, "choices", "choices.txt")
-    suite.write_table(path, ["each run of choices/ against the paper run of the same problem, at T: zones on Gamma3,",
+    runfiles.write_table(path, ["each run of choices/ against the paper run of the same problem, at T: zones on Gamma3,",
                              "max over Gamma3 nodes of |dv_nu| and |dv_tau|, max over all nodes of |dv| (m/s), and ||dv||_L2(Omega)",
                              "(consistent P1 mass matrix; nan when the two runs have different triangles)"],
                       COMPARE_COLUMNS, [[row[c] for c in COMPARE_COLUMNS] for row in rows])
@@ -212,17 +215,17 @@ def eps_study_table(results):
     if abs(area - span[0] * span[1]) > 1e-12 * span[0] * span[1]:   # ||1||^2 = |Omega| for the rectangle
         fail(f"mass matrix check: ||1||^2 = {area!r}, expected the area {span[0] * span[1]!r}")
     v_ref = velocity_field(reference, xy)
-    contact_ref = suite.read_table(os.path.join(reference, "contact.txt"))
+    contact_ref = runfiles.read_table(os.path.join(reference, "contact.txt"))
     rows = []
     for name, folder in run_folders(results):
         if not name.startswith("eps-study/"):
             continue
-        s = suite.read_summary(folder)
+        s = runfiles.read_summary(folder)
         run_xy, _ = mesh_of(folder)
         if run_xy.shape != xy.shape or np.max(np.abs(run_xy - xy)) > COORDINATE_TOL:
             fail(f"{folder}/mesh.msh: not the mesh of {reference}")
         difference = velocity_field(folder, xy) - v_ref
-        contact = suite.read_table(os.path.join(folder, "contact.txt"))
+        contact = runfiles.read_table(os.path.join(folder, "contact.txt"))
         if len(contact["x"]) != len(contact_ref["x"]) or np.max(np.abs(contact["x"] - contact_ref["x"])) > COORDINATE_TOL:
             fail(f"{folder}/contact.txt: not the Gamma3 nodes of {reference}")
         rows.append([s.real("eps"), math.sqrt(consistent_mass_norm2(xy, triangles, difference)),
@@ -238,7 +241,7 @@ def eps_study_table(results):
     if len(tail) >= 2 and all(r[1] > 0 for r in tail):
         slope = float(np.polyfit(np.log([r[0] for r in tail]), np.log([r[1] for r in tail]), 1)[0])
     path = os.path.join(results, "eps-study", "eps_study.txt")
-    suite.write_table(path, ["reference paper-original", "norm consistent_P1_mass_matrix",
+    runfiles.write_table(path, ["reference paper-original", "norm consistent_P1_mass_matrix",
                              "error_L2 = ||v_eps - v||_L2(Omega) at T (consistent P1 mass matrix, no density); "
                              "error_gamma3_max = max over Gamma3 nodes of |v_nu,eps - v_nu| at T",
                              f"slope_tail {slope!r}", f"tail_eps {','.join(repr(e) for e in tail_eps)}"],
@@ -252,24 +255,24 @@ def eps_study_table(results):
 
 
 def main():
-    suite.check_arguments("tables.py")                  # a name not in UTF-8: refused before anything
+    runfiles.check_arguments("tables.py")                  # a name not in UTF-8: refused before anything
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     mode = parser.add_mutually_exclusive_group(required=True)
     mode.add_argument("--results", help="the results folder of ./run.sh")
     mode.add_argument("--compare", nargs="+", metavar="FOLDER", help="REF RUN [RUN ...]: run folders")
     mode.add_argument("--successive", nargs="+", metavar="FOLDER", help="RUN1 RUN2 [RUN3 ...]: run folders")
     args = parser.parse_args()
-    suite.check_outputs("tables.py", [args.results])    # not written through a symbolic link
+    runfiles.check_outputs("tables.py", [args.results])    # not written through a symbolic link
     folders = args.compare or args.successive
     if folders:
         if len(folders) < 2:
             fail("--compare and --successive need at least two run folders")
         for folder in folders:
             if not os.path.isfile(os.path.join(folder, "contact.txt")):
-                fail(f"no run in {suite.shown(folder)}")
-            if suite.read_summary(folder).get("dimension", "2") == "3":
-                fail(f"{suite.shown(folder)} is a 3D run: tables.py compares 2D runs (triangles, v_x v_y); compare 3D runs "
-                     "with PYTHONPATH=plots /usr/bin/python3 tests/check_results.py RUN --compare REF --rtol R, "
+                fail(f"no run in {runfiles.shown(folder)}")
+            if runfiles.run_dimension(folder) == 3:
+                fail(f"{runfiles.shown(folder)} is a 3D run: tables.py compares 2D runs (triangles, v_x v_y); compare 3D runs "
+                     "with /usr/bin/python3 tests/check_results.py RUN --compare REF --rtol R, "
                      "which reads every column (v_tau2, v_z) and prints them with --rtol 0")
         if args.compare:
             print(f"tables.py: differences at T from {folders[0]}")
@@ -281,11 +284,11 @@ def main():
             print_comparison(rows, orders)
         return
     if not os.path.isdir(args.results):
-        fail(f"no folder {suite.shown(args.results)}")
+        fail(f"no folder {runfiles.shown(args.results)}")
     zones_table(args.results)
     eps_study_table(args.results)
     choices_table(args.results)
 
 
 if __name__ == "__main__":
-    suite.run_tool("tables.py", main)
+    runfiles.run_tool("tables.py", main)

@@ -1,12 +1,14 @@
 #!/usr/bin/python3
 """Write malformed or degenerate variants of a good gmsh MSH 2.2 mesh, for the tests of the
-mesh checker (edp/plugins/runtools.cpp, runCheckMesh). Usage:
+mesh checker (edp/plugins/runtools/meshcheck.cpp, runCheckMesh). Usage:
   bad_meshes.py GOOD.msh OUTDIR
 writes OUTDIR/NAME.msh for each NAME of VARIANTS (one problem each)."""
 import os
 import sys
 
-import suite
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.dirname(os.path.abspath(__file__))), "edp"))
+
+import runfiles
 
 
 def variants(mesh_text):
@@ -21,7 +23,7 @@ def variants(mesh_text):
         return "\n".join(head + ["$Nodes", str(len(node_lines))] + node_lines + ["$EndNodes", "$Elements",
                                  str(len(element_lines))] + element_lines + ["$EndElements", ""])
 
-    labels = suite.labels()
+    labels = runfiles.labels()
     contact = str(labels["GammaContact"])
     triangles = [e for e in elements if e.split()[1] == "2"]
     lines_of = [e for e in elements if e.split()[1] == "1"]
@@ -158,7 +160,7 @@ def variants(mesh_text):
 def main():
     if len(sys.argv) != 3:
         sys.exit("usage: bad_meshes.py GOOD.msh OUTDIR")
-    text = "\n".join(suite.read_lines(sys.argv[1]))
+    text = "\n".join(runfiles.read_lines(sys.argv[1]))
     os.makedirs(sys.argv[2], exist_ok=True)
     for name, mesh in variants(text).items():
         with open(os.path.join(sys.argv[2], name + ".msh"), "w") as f:
@@ -166,4 +168,4 @@ def main():
 
 
 if __name__ == "__main__":
-    suite.run_tool("bad_meshes.py", main)
+    runfiles.run_tool("bad_meshes.py", main)

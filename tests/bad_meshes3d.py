@@ -1,6 +1,6 @@
 #!/usr/bin/python3
 """Write faulty variants of a good 3D gmsh MSH 2.2 mesh (tetrahedra), for the tests of the 3D
-mesh checker (edp/plugins/runtools.cpp, checkMesh3). Usage:
+mesh checker (edp/plugins/runtools/meshcheck.cpp, checkMesh3). Usage:
   bad_meshes3d.py GOOD.msh OUTDIR
 writes OUTDIR/fold.msh (an interior node moved out through the body's face: tetrahedra that
 overlap their neighbours) and OUTDIR/coincident.msh (a second node at the point of node 1,

@@ -5,7 +5,7 @@ Usage: /usr/bin/python3 tests/check_references.py   (from anywhere; checks the r
 Prints one line FILE:LINE: PROBLEM per problem; exit 0 when clean, 1 otherwise.
 
 Scanned: README.md and docs/*.md (whole text), and the comments and docstrings of the
-code: edp/**/*.edp, *.idp, *.cpp, *.hpp, *.awk, *.txt, *.scene; tests/*.sh, *.py, *.edp;
+code: edp/**/*.edp, *.idp, *.cpp, *.hpp, *.awk, *.txt, *.scene, *.py; tests/*.sh, *.py, *.edp;
 plots/*.py; run.sh; meshes/*.geo; .ci/run. Rules:
 
 1. Paths. Every token that starts with edp/, tests/, plots/, docs/ or meshes/, and every
@@ -36,7 +36,7 @@ ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 RUNTIME = ("tests/work/", "meshes/build/", "edp/plugins/build/")  # made by runs, not in git
 SELF = "tests/check_references.py"
 CODE = ["edp/**/*.edp", "edp/**/*.idp", "edp/**/*.cpp", "edp/**/*.hpp", "edp/**/*.awk",
-        "edp/**/*.txt", "edp/**/*.scene", "tests/*.sh", "tests/*.py", "tests/*.edp",
+        "edp/**/*.txt", "edp/**/*.scene", "edp/**/*.py", "tests/*.sh", "tests/*.py", "tests/*.edp",
         "plots/*.py", "run.sh", "meshes/*.geo", ".ci/run"]
 DOCS = ["README.md", "docs/*.md"]
 

@@ -11,13 +11,14 @@ Usage: check_vtk.py RUN_DIR. Prints one line per failed check and exits 1 if any
 """
 import os
 import sys
-import xml.etree.ElementTree as ElementTree
+
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.dirname(os.path.abspath(__file__))), "edp"))
 
 import numpy as np
 import vtk
 from vtk.util.numpy_support import vtk_to_numpy
 
-import suite
+import runfiles
 
 
 def read_frame(path):
@@ -33,7 +34,7 @@ def read_frame(path):
 
 def main():
     if len(sys.argv) != 2:
-        raise suite.InputError("usage: check_vtk.py RUN_DIR")
+        raise runfiles.InputError("usage: check_vtk.py RUN_DIR")
     folder = sys.argv[1]
     failures = []
 
@@ -42,25 +43,25 @@ def main():
             failures.append(message)
         return condition
 
-    fields = suite.read_table(os.path.join(folder, "fields.txt"))
-    summary = suite.read_summary(os.path.join(folder, "summary.txt"))
+    fields = runfiles.read_table(os.path.join(folder, "fields.txt"))
+    summary = runfiles.read_summary(os.path.join(folder, "summary.txt"))
     steps, every, dt = summary.integer("steps"), summary.integer("vtk"), summary.real("dt")
-    mesh = suite.read_msh22(os.path.join(folder, "mesh.msh"))
-    collection = ElementTree.parse(os.path.join(folder, "vtk", "fields.pvd")).getroot()
-    sets = collection.findall("./Collection/DataSet")
+    mesh = runfiles.read_msh22(os.path.join(folder, "mesh.msh"))
+    series = runfiles.read_pvd(os.path.join(folder, "vtk", "fields.pvd"))
     wanted = sorted({n for n in range(0, steps + 1) if n % every == 0} | {steps})
-    expect([d.get("file") for d in sets] == [f"fields_{n:06d}.vtu" for n in wanted], "fields.pvd does not list steps 0, every N and the last")
-    expect(all(abs(float(d.get("timestep")) - n * dt) <= 1e-12 * max(1, n * dt) for d, n in zip(sets, wanted)),
+    expect([os.path.basename(file) for _, file in series] == [f"fields_{n:06d}.vtu" for n in wanted],
+           "fields.pvd does not list steps 0, every N and the last")
+    expect(all(abs(t - n * dt) <= 1e-12 * max(1, n * dt) for (t, _), n in zip(series, wanted)),
            "fields.pvd: a timestep is not step * dt")
-    for d in sets:
-        grid, points, arrays, cells = read_frame(os.path.join(folder, "vtk", d.get("file")))
+    for _, file in series:
+        grid, points, arrays, cells = read_frame(file)
         expect(grid.GetNumberOfPoints() == len(fields) and grid.GetNumberOfCells() == len(mesh.triangles),
-               f"{d.get('file')}: {grid.GetNumberOfPoints()} points and {grid.GetNumberOfCells()} cells, the mesh has "
-               f"{len(fields)} and {len(mesh.triangles)}")
-        expect(sorted(arrays) == ["contact_zone", "u", "v", "von_mises"], f"{d.get('file')}: point arrays {sorted(arrays)}")
+               f"{os.path.basename(file)}: {grid.GetNumberOfPoints()} points and {grid.GetNumberOfCells()} cells, the "
+               f"mesh has {len(fields)} and {len(mesh.triangles)}")
+        expect(sorted(arrays) == ["contact_zone", "u", "v", "von_mises"], f"{os.path.basename(file)}: point arrays {sorted(arrays)}")
     if failures:
         return report(folder, failures)
-    last_frame = os.path.join(folder, "vtk", sets[-1].get("file"))
+    last_frame = series[-1][1]
     grid, points, arrays, cells = read_frame(last_frame)
     triangles = cells.reshape(-1, 4)
     expect((triangles[:, 0] == 3).all() and (np.sort(triangles[:, 1:], 1) == np.sort(mesh.triangles, 1)).all(),
@@ -71,7 +72,7 @@ def main():
         worst = np.abs(mine - fields[name]).max()
         expect(worst <= 1e-14 * scale(fields[name]), f"last frame: {name} differs from fields.txt by {worst:.3e}")
     expect(np.abs(points[:, 2]).max() == 0 and np.abs(arrays["u"][:, 2]).max() == 0, "last frame: z components not 0")
-    history = suite.read_table(os.path.join(folder, "contact_nodes_history.txt"))
+    history = runfiles.read_table(os.path.join(folder, "contact_nodes_history.txt"))
     at_end = history["step"] == history["step"].max()
     zone = np.full(len(fields), -1)
     for x, y, z in zip(history["x"][at_end], history["y"][at_end], history["zone"][at_end]):
@@ -87,4 +88,4 @@ def report(folder, failures):
 
 
 if __name__ == "__main__":
-    suite.run_tool("check_vtk.py", main)
+    runfiles.run_tool("check_vtk.py", main)

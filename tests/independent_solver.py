@@ -22,7 +22,7 @@ WHAT IT SOLVES
 
 HOW (independent of the FreeFEM code; written from docs/design.md and the paper only)
   * the files (the MSH 2.2 mesh, the tables of a run, the label numbers) are read with
-    plots/suite.py; own element matrices (gradients of barycentric coordinates, Voigt
+    edp/runfiles.py; own element matrices (gradients of barycentric coordinates, Voigt
     form with engineering shear), dense global matrices;
   * Dirichlet components are removed from the unknowns (no penalty/tgv);
   * each step is solved by a semismooth Newton method on the FULL, uncondensed system
@@ -57,13 +57,11 @@ USAGE
   /usr/bin/python3 tests/independent_solver.py --compare FREEFEM_RUN_DIR [--rtol 1e-9]
       [--out DIR]
     takes the parameters from FREEFEM_RUN_DIR/summary.txt and the contact.txt header,
-    the mesh from FREEFEM_RUN_DIR/mesh.msh (else the file named by the
-    'mesh' line of summary.txt), solves, and prints per column the max abs
+    the mesh from FREEFEM_RUN_DIR/mesh.msh, solves, and prints per column the max abs
     difference relative to the column's max abs value (contact.txt: v_nu v_tau p_nu
-    lambda_nu lambda_tau; fields.txt: u_x u_y v_x v_y). Exit 1 if any exceeds rtol.
-  Exit status: 0 ok, 1 comparison failed, 2 bad usage/input (also when plots/suite.py
-  cannot be imported: run it through ./run.sh, which sets PYTHONPATH), 4 a step did not
-  converge.
+    lambda_nu lambda_tau and what the law gives each node, g damped_response force_scale
+    zone, derived here on its own; fields.txt: u_x u_y v_x v_y). Exit 1 if any exceeds rtol.
+  Exit status: 0 ok, 1 comparison failed, 2 bad usage/input, 4 a step did not converge.
 Only numpy is needed.
 """
 import argparse
@@ -71,16 +69,11 @@ import os
 import sys
 import time
 
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.dirname(os.path.abspath(__file__))), "edp"))
+
 import numpy as np
 
-try:
-    import suite
-except ModuleNotFoundError as error:
-    if error.name != "suite":
-        raise
-    print("independent_solver: error: cannot import suite (plots/suite.py): run it through ./run.sh, "
-          "or set PYTHONPATH=plots", file=sys.stderr)
-    sys.exit(2)
+import runfiles
 
 SCENES = {
     # boundary label (its name in edp/lib/forms.idp) -> fixed components (0 = x, 1 = y)
@@ -94,7 +87,7 @@ PARAM_KEYS = ["scene", "problem", "plane", "T", "dt", "rho", "E", "nu", "muv", "
               "cnu", "g", "mu", "eps"]
 
 
-InputError = suite.InputError
+InputError = runfiles.InputError
 
 
 class ConvergenceError(Exception):
@@ -151,7 +144,7 @@ def assemble(xy, tri, prm):
 
 
 def boundary_data(xy, edges, elab, scene):
-    labels = suite.labels()
+    labels = runfiles.labels()
     contact, traction = labels["GammaContact"], labels["GammaTraction"]
     nn = len(xy)
     fixed = np.zeros(2 * nn, dtype=bool)
@@ -272,8 +265,7 @@ class Problem:
             J[nf:nf + nN, :nf] = (-self.wn * (vnu > g) / p["eps"])[:, None] * self.Cn
         iT = np.arange(nf + nN, n)
         inside = np.abs(z) < s              # stick: residual = -r vtau
-        up = (~inside) & (z >= 0)           # slip +: residual = lt - s
-        dn = (~inside) & (z < 0)            # slip -: residual = lt + s
+        up = (~inside) & (z >= 0)           # slip +: residual = lt - s; else slip -: lt + s
         J[iT, iT] = self.wt * np.where(inside, 0.0, 1.0)
         rowsT = np.zeros((nT, nf))
         rowsT -= (self.wt * np.where(inside, self.ct, 0.0))[:, None] * self.Ct
@@ -465,11 +457,14 @@ class Problem:
 
 
 def write_solution(out, prm, contact_rows, field_rows):
-    suite.write_solution(out, ["%s %s" % (kk, prm[kk]) for kk in PARAM_KEYS], (CONTACT_COLS, contact_rows), (FIELD_COLS, field_rows))
+    """OUT/contact.txt and OUT/fields.txt, in the format of the suite's tables."""
+    comments = ["%s %s" % (kk, prm[kk]) for kk in PARAM_KEYS]
+    runfiles.write_table(os.path.join(out, "contact.txt"), comments, CONTACT_COLS, contact_rows)
+    runfiles.write_table(os.path.join(out, "fields.txt"), comments, FIELD_COLS, field_rows)
 
 
 def solve(mesh, prm, tol, maxit, verbose=False):
-    m = suite.read_msh22(mesh)
+    m = runfiles.read_msh22(mesh)
     t0 = time.time()
     pb = Problem(m.xy, m.triangles, m.lines, m.line_labels, prm).run(tol, maxit, verbose)
     return pb, time.time() - t0
@@ -477,12 +472,9 @@ def solve(mesh, prm, tol, maxit, verbose=False):
 
 # ----------------------------------------------------------------------------- compare
 def to_params(d, where):
-    """The parameters PARAM_KEYS of a run from the suite.Values d of one of its files."""
+    """The parameters PARAM_KEYS of a run from the runfiles.Values d of one of its files."""
     prm = {}
     for kk in PARAM_KEYS:
-        if kk == "plane" and kk not in d:
-            prm[kk] = "stress"                  # runs from before the option: plane stress
-            continue
         if kk not in d:
             raise InputError("%s: parameter '%s' missing" % (where, kk))
         prm[kk] = d[kk] if kk in ("scene", "problem", "plane") else d.real(kk)
@@ -490,8 +482,8 @@ def to_params(d, where):
 
 
 def compare(run_dir, rtol, tol, maxit, out):
-    summ = suite.read_summary(os.path.join(run_dir, "summary.txt"))
-    theirs_c = suite.read_table(os.path.join(run_dir, "contact.txt"))
+    summ = runfiles.read_summary(os.path.join(run_dir, "summary.txt"))
+    theirs_c = runfiles.read_table(os.path.join(run_dir, "contact.txt"))
     prm = to_params(summ, "summary.txt")
     prm2 = to_params(theirs_c.params, "contact.txt header")
     for kk in PARAM_KEYS:
@@ -499,14 +491,9 @@ def compare(run_dir, rtol, tol, maxit, out):
             raise InputError("parameter %s differs: summary.txt %s, contact.txt %s" % (kk, prm[kk], prm2[kk]))
     if prm["scene"] not in SCENES or prm["problem"] not in ("original", "penalty") or prm["plane"] not in ("stress", "strain"):
         raise InputError("unsupported scene/problem/plane %s/%s/%s" % (prm["scene"], prm["problem"], prm["plane"]))
-    theirs_f = suite.read_table(os.path.join(run_dir, "fields.txt"))
+    theirs_f = runfiles.read_table(os.path.join(run_dir, "fields.txt"))
     print("parameters: " + " ".join("%s=%s" % (kk, prm[kk]) for kk in PARAM_KEYS))
     mesh = os.path.join(run_dir, "mesh.msh")
-    if not os.path.exists(mesh):
-        # a run made with -mesh FILE records the file's path as its "mesh" key
-        if summ.get("mesh", "none") == "none":
-            raise InputError("%s has no mesh.msh and summary.txt names no mesh" % run_dir)
-        mesh = summ["mesh"]
     print("mesh: %s" % mesh)
     pb, elapsed = solve(mesh, prm, tol, maxit)
     print("independent solve: %d steps, %d dofs (%d free), %d contact nodes, Newton iterations "
@@ -572,8 +559,7 @@ def main(argv):
     ap.add_argument("--verbose", action="store_true")
     ap.add_argument("--out")
     a = ap.parse_args(argv)
-
-    def run():
+    try:
         if a.compare:
             return compare(a.compare, a.rtol, a.tol, a.maxit, a.out)
         if not a.mesh or not a.out:
@@ -587,8 +573,10 @@ def main(argv):
         print("%d steps, Newton iterations total %d max %d, worst KKT error %.2e, %.3f s; results in %s"
               % (pb.N, sum(pb.iterations), max(pb.iterations), pb.worst, elapsed, a.out))
         return 0
-    return suite.independent_main("independent_solver", run, (InputError, OSError, ValueError, KeyError, IndexError), ConvergenceError)
+    except ConvergenceError as error:
+        print("independent_solver: %s" % error, file=sys.stderr)
+        return 4
 
 
 if __name__ == "__main__":
-    sys.exit(main(sys.argv[1:]))
+    sys.exit(runfiles.run_tool("independent_solver", lambda: main(sys.argv[1:]), code=2))

@@ -25,7 +25,6 @@ tests="$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)"
 root="$(dirname "$tests")"
 cd "$root" || exit 1
 PYTHON="${PYTHON:-/usr/bin/python3}"
-export PYTHONPATH="$root/plots${PYTHONPATH:+:$PYTHONPATH}"   # plots/suite.py, as run.sh sets it
 FREEFEM=(FreeFem++-nw -ns -v 0)
 work=tests/work              # relative, so that outputs do not depend on the checkout's path
 mkdir -p "$work"

@@ -3,9 +3,16 @@
 //
 // Every solver and every output reads the law from here: the compiled Newton (default),
 // its script view (-kernel script), the fixed point and the full-system Newton (through
-// the contactLaw* functions of contactkernel.cpp), the record of each step and the
-// statuses of contact.txt. Change the law in the first part of this file and ./run.sh
-// rebuilds the kernel; every solver then solves the new law.
+// the kernel's FreeFEM functions, edp/plugins/kernel/bindings.cpp), the record of each step,
+// the statuses of contact.txt, and the scene reader (the damping families and their checks).
+// Change the law in the first part of this file and ./run.sh rebuilds the kernel; every
+// solver then solves the new law.
+//
+// First part, what a student changes: the damping families (p, p' and the check of a scene
+// line's numbers, one row each in dampingFamilies), the friction bound, the statuses, the
+// zones. Second part, derived from it: the family table's use (lookup, checks, messages),
+// the pieces of each slot, their resolvents and relations, the fixed point's local disk
+// solve, and checkLaw, which the kernel runs when a run starts.
 #ifndef CONTACTLAW_HPP
 #define CONTACTLAW_HPP
 #include <algorithm>
@@ -17,65 +24,111 @@
 
 namespace contactlaw {
 
-// The data of the law, set by name from edp/lib/contact.idp (contactKernelParameter and,
-// per node, contactKernelNodes).
-// The families of damped responses a scene can choose (scene key damping; docs/design.md,
-// section "Scenes"):
-//   damping linear C              p(r) = C r_+, the paper's (C is -cnu)
-//   damping power C ALPHA         p(r) = C r_+^ALPHA, ALPHA >= 1 (C is -cnu)
-//   damping table r0 p0 r1 p1 ... p piecewise linear through the points, from (0, 0),
-//                                 nondecreasing, extended past the last point by its slope
-enum Damping { Linear = 0, Power = 1, Table = 2 };
-
+// The data of the law, set from edp/lib/contact.idp: by name (contactKernelParameter), the
+// scene's damping family and its numbers (contactKernelDamping) and, per node, the bound g
+// (contactKernelNodes).
 struct Parameters {
-  int damping = Linear;  // the family of p
-  double cnu = 0;        // option -cnu: C of the linear and power families
-  double alpha = 1;      // ALPHA of the power family
-  std::vector<double> tableR, tableP;   // the points of the table family
+  int damping = 0;       // the family of p: its row in dampingFamilies below
+  double cnu = 0;        // option -cnu: C of a family whose first number is C (its default: the scene's C)
+  std::vector<double> numbers;   // the family's other numbers, in the scene line's order (after C)
   double mu = 0;         // option -mu: friction coefficient
   double eps = 1;        // option -eps: penalty parameter
   bool penalty = false;  // option -problem penalty (else the original problem, v_nu <= g)
   bool literal = false;  // option -penaltyform literal (else compliant)
 };
 
+// A number as the messages of this file write it.
+inline std::string lawNumber(double x) { char b[32]; std::snprintf(b, sizeof b, "%g", x); return std::string(b); }
+
 // ======================= the law: what a user or a student changes =======================
 
-// The table family at r > 0: the segment (r_k, r_k+1] that holds r (the last one beyond it).
+// The families of the damped response p a scene can choose, "damping NAME numbers..."
+// (docs/design.md, section "Scenes"). Each is p and its slope p' at r > 0 (dampedResponse below
+// gives 0 at r <= 0), and the check of the scene line's numbers. A family of your own: its
+// two functions, its check, and a row in dampingFamilies (docs/walkthrough.md, Exercise 1b).
+
+// damping linear C: p(r) = C r_+, the paper's (C is -cnu)
+inline double linearResponse(const Parameters &P, double r) {
+  return P.cnu * r;                                                      // Linear
+}
+inline double linearSlope(const Parameters &P, double r) {
+  return P.cnu;                                                          // Linear
+}
+inline std::string linearCheck(const std::vector<double> &x) {
+  return x[0] >= 0 ? "" : "C must be >= 0, got " + lawNumber(x[0]);
+}
+
+// damping power C ALPHA: p(r) = C r_+^ALPHA, ALPHA >= 1 (C is -cnu; numbers[0] is ALPHA)
+inline double powerResponse(const Parameters &P, double r) { return P.cnu * std::pow(r, P.numbers[0]); }
+inline double powerSlope(const Parameters &P, double r) { return P.numbers[0] * P.cnu * std::pow(r, P.numbers[0] - 1); }
+inline std::string powerCheck(const std::vector<double> &x) {
+  if (!(x[0] >= 0)) return "C must be >= 0, got " + lawNumber(x[0]);
+  return x[1] >= 1 ? "" : "ALPHA must be >= 1, got " + lawNumber(x[1]);
+}
+
+// damping table r0 p0 r1 p1 ...: p piecewise linear through the points (numbers: r0 p0 r1 p1
+// ...), from (0, 0), nondecreasing, extended past the last point by its slope. At r > 0, the
+// segment (r_k, r_k+1] that holds r (the last one beyond it).
 inline int tableSegment(const Parameters &P, double r) {
+  const int points = (int)P.numbers.size() / 2;
   int k = 0;
-  while (k + 2 < (int)P.tableR.size() && r > P.tableR[k + 1]) k++;
+  while (k + 2 < points && r > P.numbers[2 * (k + 1)]) k++;
   return k;
 }
 inline double tableSlope(const Parameters &P, double r) {
   const int k = tableSegment(P, r);
-  return (P.tableP[k + 1] - P.tableP[k]) / (P.tableR[k + 1] - P.tableR[k]);
+  const double *point = P.numbers.data() + 2 * k;   // r_k, p_k, r_k+1, p_k+1
+  return (point[3] - point[1]) / (point[2] - point[0]);
 }
 // Between two points, a weighted mean of their values, kept between them (p_k + slope (r - r_k)
 // could round outside); past the last point, its slope.
-inline double tableValue(const Parameters &P, double r) {
+inline double tableResponse(const Parameters &P, double r) {
   const int k = tableSegment(P, r);
-  const double r0 = P.tableR[k], r1 = P.tableR[k + 1], p0 = P.tableP[k], p1 = P.tableP[k + 1];
+  const double *point = P.numbers.data() + 2 * k;
+  const double r0 = point[0], r1 = point[2], p0 = point[1], p1 = point[3];
   if (r > r1) return p1 + tableSlope(P, r) * (r - r1);
   const double s = (r - r0) / (r1 - r0);
   return std::min(std::max((1 - s) * p0 + s * p1, std::min(p0, p1)), std::max(p0, p1));
 }
+inline std::string tableCheck(const std::vector<double> &x) {
+  const int points = (int)x.size() / 2;
+  auto point = [&](int k) { return "point " + std::to_string(k + 1) + " (" + lawNumber(x[2 * k]) + ", " + lawNumber(x[2 * k + 1]) + ")"; };
+  for (int k = 1; k < points; k++)
+    if (!(x[2 * k] > x[2 * k - 2])) return point(k) + " does not come after the one before";
+  if (points < 2) return "at least two points, from (0, 0)";
+  if (x[0] != 0 || x[1] != 0) return "the first point must be (0, 0), got (" + lawNumber(x[0]) + ", " + lawNumber(x[1]) + ")";
+  for (int k = 1; k < points; k++)
+    if (x[2 * k + 1] < x[2 * k - 1]) return "p decreases at " + point(k);
+  return "";
+}
+
+struct DampingFamily {
+  const char *name;          // the word after "damping" on a scene line
+  const char *spelling;      // its numbers, as messages and docs spell them
+  int count;                 // how many numbers; 0: pairs "r p", as many as given
+  bool firstIsC;             // its first number is C: the default of -cnu, which overrides it
+  double (*response)(const Parameters &, double);   // p(r) at r > 0
+  double (*slope)(const Parameters &, double);      // p'(r) at r > 0
+  std::string (*check)(const std::vector<double> &);   // why the line's numbers (C included) cannot be used, or ""
+};
+const DampingFamily dampingFamilies[] = {
+  {"linear", "C", 1, true, linearResponse, linearSlope, linearCheck},
+  {"power", "C ALPHA", 2, true, powerResponse, powerSlope, powerCheck},
+  {"table", "r0 p0 r1 p1 ...", 0, false, tableResponse, tableSlope, tableCheck},
+};
 
 // p(r), the normal damped response (2.17); the paper's is p(r) = c_nu r_+ (section 5).
 // It must vanish for r <= 0 and be nondecreasing.
 inline double dampedResponse(const Parameters &P, double r) {
   if (r <= 0) return 0.;
-  if (P.damping == Power) return P.cnu * std::pow(r, P.alpha);
-  if (P.damping == Table) return tableValue(P, r);
-  return P.cnu * r;                                                      // Linear
+  return dampingFamilies[P.damping].response(P, r);
 }
 
 // p'(r), its slope (Newton's linearization uses it); at a kink, the slope on the left.
 // Keep it consistent with dampedResponse: the kernel compares the two when a run starts.
 inline double dampedResponseSlope(const Parameters &P, double r) {
   if (r <= 0) return 0.;
-  if (P.damping == Power) return P.alpha * P.cnu * std::pow(r, P.alpha - 1);
-  if (P.damping == Table) return tableSlope(P, r);
-  return P.cnu;                                                          // Linear
+  return dampingFamilies[P.damping].slope(P, r);
 }
 
 // The friction bound (2.18): mu p(v_nu). At the bound v_nu = g it is Tresca's F_b = mu p(g).
@@ -93,6 +146,47 @@ inline int zone(int normal, int tangential) { return normal > 0 ? 2 * normal - t
 
 // ============ derived from the law above: pieces, resolvents, relations (no need to edit) ============
 //
+// The damping families, as the scene reader and the kernel use them: the family of a name
+// (-1: none), the scene line's numbers checked (their count, then the family's own check),
+// and the families spelt for messages.
+const int dampingFamilyCount = sizeof dampingFamilies / sizeof dampingFamilies[0];
+inline int findDampingFamily(const std::string &name) {
+  for (int k = 0; k < dampingFamilyCount; k++) if (name == dampingFamilies[k].name) return k;
+  return -1;
+}
+// why the numbers of a line "damping NAME numbers..." cannot be used, or "" (every number is
+// finite: the scene reader checks that first)
+inline std::string checkDampingNumbers(int family, const std::vector<double> &numbers) {
+  const DampingFamily &f = dampingFamilies[family];
+  const int n = (int)numbers.size();
+  if (f.count == 0 && (n < 2 || n % 2)) return "needs pairs of numbers, " + std::string(f.spelling);
+  if (f.count > 0 && n != f.count)
+    return "takes " + std::to_string(f.count) + (f.count == 1 ? " number, " : " numbers, ") + f.spelling + ", got " + std::to_string(n);
+  return f.check(numbers);
+}
+// "damping linear C, damping power C ALPHA, or damping table r0 p0 r1 p1 ..."
+inline std::string dampingSyntax() {
+  std::string text;
+  for (int k = 0; k < dampingFamilyCount; k++)
+    text += std::string(k == 0 ? "" : (k + 1 == dampingFamilyCount ? (k > 1 ? ", or " : " or ") : ", ")) + "damping "
+            + dampingFamilies[k].name + " " + dampingFamilies[k].spelling;
+  return text;
+}
+// the families whose first number is C, "linear or power"
+inline std::string dampingNamesWithC() {
+  std::vector<std::string> names;
+  for (int k = 0; k < dampingFamilyCount; k++) if (dampingFamilies[k].firstIsC) names.push_back(dampingFamilies[k].name);
+  std::string text;
+  for (size_t k = 0; k < names.size(); k++) text += (k == 0 ? "" : (k + 1 == names.size() ? " or " : ", ")) + names[k];
+  return text;
+}
+// The family and its numbers into P: the numbers after C for a family with C (C itself is
+// P.cnu, from the option -cnu), all of them otherwise.
+inline void setDamping(Parameters &P, int family, const std::vector<double> &numbers) {
+  P.damping = family;
+  P.numbers.assign(numbers.begin() + (dampingFamilies[family].firstIsC && !numbers.empty() ? 1 : 0), numbers.end());
+}
+
 // Slots. A contact node carries up to two slots, its normal and its tangential velocity
 // component (unless a Dirichlet condition fixes it); slot j has the velocity c_j and the
 // stress Lambda_j (p_nu = p(v_nu) + lambda_nu on a normal slot, lambda_tau on a tangential
@@ -184,7 +278,7 @@ struct Slots {
   // stress it gives and v to the resolvent's velocity (Damped and Bound pieces; else unchanged).
   // c: the slot velocities (a tangential slot reads its partner's); yPair: y of the slot's
   // pair (3D). Every solver goes through here: Newton with its r_j (evaluate below), the fixed
-  // point with each slot's exact local r (a 3D pair: disk() below).
+  // point with each slot's exact local r (a 3D pair's: diskUpdate() below).
   int resolve(int j, double yj, double rj, const double *c, double &t, double &v, double yPair = 0) const {
     if (normal[j]) {
       const double pg = dampedResponse(P, g[j]);
@@ -264,6 +358,47 @@ struct Slots {
     }
     return count;
   }
+  // The fixed point's exact update of a 3D node's tangential pair (j, q = pair[j]), with the
+  // pair's 2x2 block D = [Djj Djq; Dqj Dqq] of Dw and the other slots held: c_tau = b - D m_tau
+  // (b = c_tau + D m_tau at the current iterate), and the disk law asks for b - D m in the
+  // normal cone of the disk |m| <= s at m, s = mu p(c_partner): the minimum of m'Dm/2 - b'm on
+  // the disk. Stick when |D^-1 b| <= s: m = D^-1 b. Else the projection of D^-1 b on the disk
+  // under the metric D, m = (D + nu I)^-1 b with nu > 0 such that |m| = s (Newton on
+  // 1/|m(nu)| - 1/s, kept in its bracket by bisection). Exact, as resolve() is for a scalar
+  // slot. Sets (mj, mq).
+  void diskUpdate(int j, double Djj, double Djq, double Dqj, double Dqq, double bj, double bq, const double *c,
+                  double &mj, double &mq) const {
+    const int p = partner[j];
+    const double s = p >= 0 ? frictionBound(P, c[p]) : 0.;
+    mj = 0; mq = 0;
+    auto solveShifted = [&](double nu, double &xj, double &xq) {   // (D + nu I) x = b
+      const double a11 = Djj + nu, a22 = Dqq + nu, det = a11 * a22 - Djq * Dqj;
+      xj = (a22 * bj - Djq * bq) / det; xq = (a11 * bq - Dqj * bj) / det;
+    };
+    if (!(s > 0)) return;
+    solveShifted(0., mj, mq);
+    const double bLength = std::hypot(bj, bq);
+    if (!(std::hypot(mj, mq) > s)) return;                          // stick: D^-1 b is on the disk
+    double lo = 0, hi = bLength / s, nu = 0;
+    for (int k = 0; k < 100; k++) {
+      double xj, xq;
+      solveShifted(nu, xj, xq);
+      const double length = std::hypot(xj, xq), psi = 1 / length - 1 / s;
+      if (psi < 0) lo = nu; else hi = nu;
+      // psi'(nu) = x'(D + nu I)^-1 x / |x|^3
+      double yj, yq;
+      { const double a11 = Djj + nu, a22 = Dqq + nu, det = a11 * a22 - Djq * Dqj;
+        yj = (a22 * xj - Djq * xq) / det; yq = (a11 * xq - Dqj * xj) / det; }
+      const double slope = (xj * yj + xq * yq) / (length * length * length);
+      double next = nu - psi / slope;
+      if (!(next > lo && next < hi)) next = 0.5 * (lo + hi);
+      if (std::fabs(psi) * s <= 1e-15 || hi - lo <= 1e-15 * hi) { mj = xj; mq = xq; break; }
+      nu = next;
+      mj = xj; mq = xq;
+    }
+    const double length = std::hypot(mj, mq);                       // on the circle exactly
+    if (length > 0) { mj *= s / length; mq *= s / length; }
+  }
   bool hasPairs() const { return std::any_of(pair.begin(), pair.end(), [](int q) { return q >= 0; }); }   // 3D disks
   double merit() const {
     double s = 0;
@@ -335,7 +470,7 @@ struct Slots {
 // its right or across r (a kink at r takes the slope on its left); the statuses and zones in
 // their ranges.
 inline int checkLaw(const Parameters &P, double g, std::string &why) {
-  auto text = [](double x) { char b[32]; std::snprintf(b, sizeof b, "%g", x); return std::string(b); };
+  auto text = lawNumber;
   const double h = 1e-7 * g;
   if (!(h > 0 && std::isfinite(8 * g))) { why = "g = " + text(g) + " is too small or too large to sample the law"; return 1; }
   // |slope - difference quotient of f at r| small on one side or across r

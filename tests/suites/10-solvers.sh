@@ -86,13 +86,13 @@ solve -scene paper -nx 16 -ny 8 -T 0.2 -problem penalty -eps 1e6 -out "$work/eps
   && "$PYTHON" tests/check_results.py "$work/eps1e6" >> "$diag" 2>&1 || { echo "-eps 1e6 failed" >> "$diag"; status=1; }
 report $status "fixed point at -tol 1e-4: the paper's zones (statuses settled); a stalled fixed point stops at once with exit 4 and says so (Newton converges there); -eps 1e6 passes the penalty check" "$diag"
 
-# ---- the compiled kernel (edp/plugins/contactkernel.cpp): its linear algebra against
-# FreeFEM's UMFPACK, and its Newton against the script Newton of edp/lib/contact.idp
+# ---- the compiled kernel (edp/plugins/kernel/): its linear algebra against FreeFEM's
+# UMFPACK, its instances, and its Newton against the script Newton of edp/lib/solvers.idp
 diag="$work/kernel.diag"; : > "$diag"
 if "${FREEFEM[@]}" tests/kernel_check.edp > "$diag" 2>&1 && grep -q "kernel_check: all checks passed" "$diag"; then
-  report 0 "kernel: solve, Delassus matrix, both halves of the back-substitution = UMFPACK, products and the record of a step = FreeFEM, to 1e-12"
+  report 0 "kernel: solve, Delassus matrix, both halves of the back-substitution = UMFPACK, products and the record of a step = FreeFEM, to 1e-12; a second instance solves alone, the first unchanged"
 else
-  report 1 "kernel: solve, Delassus matrix, both halves of the back-substitution = UMFPACK, products and the record of a step = FreeFEM, to 1e-12" "$diag"
+  report 1 "kernel: solve, Delassus matrix, both halves of the back-substitution = UMFPACK, products and the record of a step = FreeFEM, to 1e-12; a second instance solves alone, the first unchanged" "$diag"
 fi
 # calls in a wrong order stop with the kernel's message (FreeFEM's exit code 8 for an
 # execution error), never with a crash or stale data
@@ -112,6 +112,9 @@ done <<'CASES'
 4|contactKernelNodes: slot numbers must be 0 .. slots-1, each used once
 5|contactKernelRecord: call contactKernelRecordStart
 6|contactKernelParameter: unknown parameter 'gravity'
+7|contactKernelSolve without a successful contactKernelFactorize
+8|contactKernelColumn: the table nodal has no column 'v_normal'
+9|contactKernelDelete: instance 0 is the current one
 CASES
 for problem in original penalty; do
   diag="$work/script-$problem.diag"; : > "$diag"; status=0
@@ -127,7 +130,7 @@ for problem in original penalty; do
   report $status "compiled Newton = script Newton: same iterations and fixed-point fallbacks, values to 1e-9 ($problem)" "$diag"
 done
 # ---- the law is defined once (edp/plugins/contactlaw.hpp): a different damped response,
-# p(r) = c_nu r_+^2 written in its linear case in a copy of the suite (the walkthrough's
+# p(r) = c_nu r_+^2 written in its linear family in a copy of the suite (the walkthrough's
 # exercise 1), gives the same new results with the default compiled Newton and its script
 # view, the same as the scene key damping power 1000 2 with the suite as it is, the outputs
 # follow the new law, and they differ from the paper law's
@@ -147,7 +150,7 @@ done
 solve "${otherlaw_options[@]}" -out "$work/otherlaw-paper" >> "$diag" 2>&1 || status=1
 grep -v -e '^damping' -e '^cnu ' edp/scenes/paper.scene > "$work/otherlaw.scene"; echo "damping power 1000 2" >> "$work/otherlaw.scene"
 solve -scene "$work/otherlaw.scene" "${otherlaw_options[@]}" -out "$work/otherlaw-scene" >> "$diag" 2>&1 || status=1
-"$PYTHON" tests/check_results.py "$work/otherlaw-script" --compare "$work/otherlaw-compiled" --other-law --rtol 1e-9 >> "$diag" 2>&1 \
+"$PYTHON" tests/check_results.py "$work/otherlaw-script" --compare "$work/otherlaw-compiled" --rtol 1e-9 >> "$diag" 2>&1 \
   || { echo "the script view differs from the compiled Newton, or a law-independent check failed" >> "$diag"; status=1; }
 "$PYTHON" tests/check_results.py "$work/otherlaw-scene" --compare "$work/otherlaw-compiled" --rtol 1e-9 >> "$diag" 2>&1 \
   || { echo "the scene key damping power 1000 2 differs from the edited law" >> "$diag"; status=1; }
@@ -155,7 +158,7 @@ solve -scene "$work/otherlaw.scene" "${otherlaw_options[@]}" -out "$work/otherla
 awk '!/^#/ { vn = $2 > 0 ? $2 : 0; d = $4 - $5 - 1000 * vn * vn; if (d < 0) d = -d; if (d > 1e-9) bad++; n++ }
      END { if (!n || bad) { print "contact.txt does not follow p = 1000 (v_nu)_+^2 on " bad + 0 " of " n " nodes"; exit 1 } }' \
   "$work/otherlaw-compiled/contact.txt" >> "$diag" || status=1
-"$PYTHON" tests/check_results.py "$work/otherlaw-compiled" --compare "$work/otherlaw-paper" --other-law --rtol 1e-6 > /dev/null 2>&1 \
+"$PYTHON" tests/check_results.py "$work/otherlaw-compiled" --compare "$work/otherlaw-paper" --rtol 1e-6 > /dev/null 2>&1 \
   && { echo "the quadratic law gives the paper law's results" >> "$diag"; status=1; }
 report $status "a law changed only in edp/plugins/contactlaw.hpp (p = c r^2): compiled = script Newton = damping power 1000 2 to 1e-9, outputs follow it" "$diag"
 # a law the solvers cannot use is refused when the run starts (exit 3, no output): p' that
@@ -177,6 +180,83 @@ law_refused "a zone out of 0..4" "return normal > 0 ? 2 * normal - tangential : 
   "cannot be used: zone\(2, 1\) is not a zone 0..4"
 law_refused "a negative friction bound" "{ return P.mu * dampedResponse(P, vn); }" "{ return -P.mu * dampedResponse(P, vn); }" \
   "cannot be used: the friction bound is not finite and >= 0"
+
+# ---- a damping family added in edp/plugins/contactlaw.hpp alone (docs/walkthrough.md,
+# Exercise 1b): the page's own edit, taken from it, applied to a copy of the suite. The scene
+# key it makes is read and checked with no other change, -cnu overrides its C, the default
+# Newton, its script view and the fixed point solve it and agree, and the outputs'
+# damped_response follows the new p, C R0 (e^(v_nu/R0) - 1).
+diag="$work/family.diag"; : > "$diag"; status=0
+family="$work/family"
+rm -rf "$family" && mkdir -p "$family/meshes" && cp -r edp run.sh freefem++.pref "$family/" && cp meshes/*.geo "$family/meshes/"
+rm -rf "$family/edp/plugins/build"
+"$PYTHON" - docs/walkthrough.md "$family/edp/plugins/contactlaw.hpp" >> "$diag" 2>&1 <<'PY' || { echo "could not apply the walkthrough's edit" >> "$diag"; status=1; }
+# the family's functions before struct DampingFamily, its row after the table family's row:
+# the code blocks after the page's markers "exercise 1b: the functions" and "... the row"
+import sys
+doc, path = open(sys.argv[1]).read(), sys.argv[2]
+law = open(path).read()
+def block(marker):
+    start = doc.index("```cpp\n", doc.index("<!-- exercise 1b: " + marker + " -->")) + len("```cpp\n")
+    return doc[start:doc.index("```", start)]
+anchor, row = "struct DampingFamily {", '  {"table", '
+assert law.count(anchor) == 1 and law.count(row) == 1, "contactlaw.hpp has not one struct DampingFamily and one table row"
+law = law.replace(anchor, block("the functions") + "\n" + anchor)
+at = law.index("\n", law.index(row)) + 1
+open(path, "w").write(law[:at] + block("the row") + law[at:])
+PY
+grep -v -E '^(cnu|damping) ' edp/scenes/paper.scene > "$work/family.scene"; echo "damping exponential 50 0.05" >> "$work/family.scene"
+family_options=(-scene "$root/$work/family.scene" -nx 16 -ny 8 -dt 0.05)
+while IFS='|' read -r name options; do   # from the copy's folder: its freefem++.pref loads its own kernel
+  # shellcheck disable=SC2086
+  (cd "$family" && bash run.sh solve "${family_options[@]}" $options -out "$root/$work/family-$name") >> "$diag" 2>&1 \
+    || { echo "the run $name ($options) failed" >> "$diag"; status=1; }
+done <<'RUNS'
+newton|
+script|-kernel script
+fixedpoint|-solver fixedpoint
+cnu25|-cnu 25
+RUNS
+# tests/check_results.py reads the law from the runs' own columns: the new family needs nothing of it
+"$PYTHON" tests/check_results.py "$work/family-script" --compare "$work/family-newton" --rtol 1e-9 >> "$diag" 2>&1 \
+  || { echo "the script view differs from the compiled Newton" >> "$diag"; status=1; }
+"$PYTHON" tests/check_results.py "$work/family-fixedpoint" --compare "$work/family-newton" --rtol 1e-8 >> "$diag" 2>&1 \
+  || { echo "the fixed point differs from the compiled Newton" >> "$diag"; status=1; }
+"$PYTHON" - "$work/family-newton" "$work/family-cnu25" >> "$diag" 2>&1 <<'PY' || status=1
+# damped_response = C R0 (e^(v_nu/R0) - 1) (C = 50, and 25 with -cnu 25; R0 = 0.05) and
+# p_nu - lambda_nu = damped_response at every node of contact.txt and contact_nodes_history.txt,
+# and nodes where it is far from the paper's C v_nu
+import math, sys
+def rows(path):
+    names, out = [], []
+    for line in open(path):
+        if line.startswith("#"):
+            names = line[1:].split()
+        else:
+            out.append(dict(zip(names, map(float, line.split()))))
+    return out
+for folder, C in ((sys.argv[1], 50.0), (sys.argv[2], 25.0)):
+    for file in ("contact.txt", "contact_nodes_history.txt"):
+        stiff = 0
+        for row in rows(folder + "/" + file):
+            v = max(row["v_nu"], 0.0)
+            p = C * 0.05 * math.expm1(v / 0.05)
+            if abs(row["damped_response"] - p) > 1e-12 * max(p, 1.0):
+                sys.exit(f"{folder}/{file}: damped_response {row['damped_response']} != C R0 (e^(v_nu/R0) - 1) = {p} at v_nu = {v}")
+            if abs(row["p_nu"] - row["lambda_nu"] - p) > 1e-9 * max(abs(row["p_nu"]), 1.0):
+                sys.exit(f"{folder}/{file}: p_nu - lambda_nu = {row['p_nu'] - row['lambda_nu']} != p(v_nu) = {p} at v_nu = {v}")
+            stiff += p > 1.5 * C * v
+        if not stiff:
+            sys.exit(f"{folder}/{file}: no node where the new p differs from the paper's C v_nu")
+PY
+# the new family's numbers are checked when the scene is read, and the families' list names it
+for line in "damping exponential 50 0|damping exponential: R0 must be > 0, got 0" "damping cubic 3|damping table r0 p0 r1 p1 ..., or damping exponential C R0"; do
+  grep -v -E '^(cnu|damping) ' edp/scenes/paper.scene > "$work/family-bad.scene"; echo "${line%%|*}" >> "$work/family-bad.scene"
+  rc=0; (cd "$family" && bash run.sh solve -scene "$root/$work/family-bad.scene" -out "$root/$work/family-bad") > "$work/family-bad.log" 2>&1 || rc=$?
+  [ "$rc" = 3 ] && grep -qF "${line#*|}" "$work/family-bad.log" && grep -q "family-bad.scene:[0-9][0-9]*: " "$work/family-bad.log" \
+    || { echo "'${line%%|*}': exit $rc, expected 3 and '${line#*|}': $(cat "$work/family-bad.log")" >> "$diag"; status=1; }
+done
+report $status "a damping family added in edp/plugins/contactlaw.hpp alone (the walkthrough's Exercise 1b, its edit taken from the page): its scene key read and checked, -cnu overrides its C, compiled = script Newton to 1e-9, fixed point to 1e-8, damped_response = the new p" "$diag"
 diag="$work/umfpackfloor.diag"; : > "$diag"; status=0
 if solve "${coarse_options[@]}" -umfpackfloor on -out "$work/umfpackfloor" > "$diag" 2>&1; then
   for key in time_backsubstitution time_backsubstitution_umfpack time_factorization_umfpack; do

@@ -44,9 +44,9 @@ grep -v '^#' edp/scenes/column.scene > "$work/separator.scene"; printf 'body_for
 expect_failure "a file separator (0x1c) in a scene's value" 3 "separator.scene:[0-9]+: body_force: value 2 $separator" -scene "$work/separator.scene"
 status=0
 printf 'a\034b\342\200\250c\n# d\302\205e\f\n' > "$work/separators.txt"
-"$PYTHON" -c 'import suite, sys; lines = suite.read_lines(sys.argv[1]); assert lines == ["a\x1cb\u2028c", "# d\x85e\f"], lines' \
+"$PYTHON" -c 'import sys; sys.path.insert(0, "edp"); import runfiles; lines = runfiles.read_lines(sys.argv[1]); assert lines == ["a\x1cb\u2028c", "# d\x85e\f"], lines' \
   "$work/separators.txt" > "$work/separators.diag" 2>&1 || status=1
-report $status "plots/suite.py reads lines split at line feeds only, not at form feeds, 0x1c or U+2028" "$work/separators.diag"
+report $status "edp/runfiles.py reads lines split at line feeds only, not at form feeds, 0x1c or U+2028" "$work/separators.diag"
 expect_failure "a scene name with a quote and a semicolon" 2 "option -scene = 'x'y; ls': no readable scene file" -scene "x'y; ls"
 expect_failure "tol below round-off" 2 "option -tol = 1e-15 is out of range: it must be >= 1e-13" -tol 1e-15
 expect_failure "output named ." 2 "option -out = '.' is not a usable folder name" -out .

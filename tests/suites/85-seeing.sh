@@ -76,7 +76,7 @@ report $? "docs/lab.md: every command of the lab sheet runs, and gives the numbe
 diag="$work/names.diag"; : > "$diag"; status=0
 names="$work/names"; rm -rf "$names" "$names-out" && mkdir -p "$names/meshes" && cp -r edp "$names/" && cp meshes/*.geo "$names/meshes/"
 echo "extra.png" >> "$names/edp/figures.txt"
-signature="# figures.list: the figures plots/ of this suite drew here; they go with the run's results"   # plots/suite.py writes it
+signature="# figures.list: the figures plots/ of this suite drew here; they go with the run's results"   # plots/figurefiles.py writes it
 "${FREEFEM[@]}" "$names/edp/solve.edp" "${coarse[@]}" -out "$names-out" >> "$diag" 2>&1 || status=1
 for figure in extra.png other.png; do
   mkdir -p "$names-out/figures" && : > "$names-out/figures/$figure" && printf '%s\n%s\n' "$signature" "$figure" > "$names-out/figures/figures.list"

@@ -1,0 +1,129 @@
+// nodes.cpp: the contact nodes of Gamma3 and the law's data (contactlaw.hpp): the parameters
+// by name, the damping family, the nodes with their weights, bounds and slots (checkLaw runs
+// here, when a run starts), the observation v -> (v_nu, v_tau) of every node, its frames (3D).
+#include <cfloat>
+#include <cstdio>
+#include <utility>
+#include "kernel.hpp"
+
+namespace contactkernel {
+using namespace contactlaw;
+
+void setParameter(Kernel &k, const std::string &name, double value) {
+  Parameters &P = k.law.P;
+  SolverSettings &settings = k.settings;
+  bool law = true;                             // a law parameter: the slots must be set again
+  if (name == "cnu") P.cnu = value;
+  else if (name == "mu") P.mu = value;
+  else if (name == "eps") P.eps = value;
+  else if (name == "problem") P.penalty = value != 0;
+  else if (name == "penaltyform") P.literal = value != 0;
+  else {
+    law = false;
+    if (name == "tol") { settings.tol = value; k.law.roundoff = 10 * DBL_EPSILON / value; }
+    else if (name == "maxit") settings.maxit = (int)value;
+    else if (name == "safeguard") settings.safeguards = value != 0;
+    else if (name == "r") settings.r = value;
+    else if (name == "dt") settings.dt = value;
+    else if (name == "verbose") settings.verbose = value != 0;
+    else if (name == "ordering") settings.ordering = (int)value;
+    else kernelError("contactKernelParameter: unknown parameter '" + name + "'");
+  }
+  if (law) k.nodes.ready = false;
+}
+
+void setDampingFamily(Kernel &k, int family, const std::vector<double> &numbers) {
+  if (family < 0 || family >= dampingFamilyCount)
+    kernelError("contactKernelDamping: no damping family " + std::to_string(family) + " in edp/plugins/contactlaw.hpp");
+  const std::string why = checkDampingNumbers(family, numbers);
+  if (!why.empty()) kernelError(std::string("contactKernelDamping: damping ") + dampingFamilies[family].name + ": " + why);
+  setDamping(k.law.P, family, numbers);
+  k.nodes.ready = false;
+}
+
+int setNodes(Kernel &k, int nn, const double *x, const double *w, const double *g, const long *ns, const long *ts,
+             const long *ts2) {
+  int slots = 0;
+  for (int i = 0; i < nn; i++) slots += (ns[i] >= 0) + (ts[i] >= 0) + (ts2[i] >= 0);
+  std::vector<int> owner(slots, -1);
+  for (int i = 0; i < nn; i++)
+    for (long s : {ns[i], ts[i], ts2[i]})
+      if (s >= 0) {
+        if (s >= slots || owner[s] >= 0) kernelError("contactKernelNodes: slot numbers must be 0 .. slots-1, each used once");
+        owner[s] = i;
+      }
+  ContactNodes &nodes = k.nodes;
+  Slots &law = k.law;
+  nodes = ContactNodes();
+  nodes.x.assign(x, x + nn); nodes.weight.assign(w, w + nn); nodes.bound.assign(g, g + nn);
+  nodes.normalSlot.assign(ns, ns + nn); nodes.tangentSlot.assign(ts, ts + nn); nodes.tangentSlot2.assign(ts2, ts2 + nn);
+  nodes.slotWeight.assign(slots, 0.);
+  law.resize(slots);
+  for (int i = 0; i < nn; i++) {
+    if (!(g[i] > 0)) kernelError("contactKernelNodes: every velocity bound g must be > 0");
+    if (ts[i] >= 0) { law.normal[ts[i]] = 0; law.partner[ts[i]] = ns[i]; }
+    if (ts2[i] >= 0) { law.normal[ts2[i]] = 0; law.partner[ts2[i]] = ns[i]; }
+    if (ts[i] >= 0 && ts2[i] >= 0) { law.pair[ts[i]] = ts2[i]; law.pair[ts2[i]] = ts[i]; }   // the disk
+    for (long s : {ns[i], ts[i], ts2[i]}) if (s >= 0) nodes.slotWeight[s] = w[i];
+  }
+  for (int j = 0; j < slots; j++) { law.setBound(j, g[owner[j]]); law.setAugmentation(j, k.settings.r); }
+  std::string why;
+  for (int i = 0; i < nn; i++)
+    if (checkLaw(law.P, g[i], why)) {
+      char data[160];
+      std::snprintf(data, sizeof data, " (c_nu = %g, mu = %g, g = %g)", law.P.cnu, law.P.mu, g[i]);
+      nodes.lawProblem = "the law of edp/plugins/contactlaw.hpp cannot be used: " + why + data;
+      return 1;
+    }
+  nodes.ready = true;
+  return 0;
+}
+
+void requireNodes(const Kernel &k, const char *who) {
+  if (!k.nodes.ready) kernelError(std::string(who) + ": call contactKernelNodes first (after the last contactKernelParameter)");
+}
+
+// the rows of O, two per node (three in 3D), kept as CSR
+void setNodeObservation(Kernel &k, const SparseTriplets &O) {
+  requireNodes(k, "contactKernelNodeVelocity");
+  ContactNodes &nodes = k.nodes;
+  const int nn = nodes.count();
+  if (O.rows != 2 * nn && O.rows != 3 * nn) kernelError("contactKernelNodeVelocity: two rows per node (2D) or three (3D) expected");
+  nodes.rowsPerNode = nn > 0 ? O.rows / nn : 2;
+  std::vector<std::vector<std::pair<int, double>>> rows(O.rows);
+  for (size_t e = 0; e < O.count; e++) rows[O.row[e]].push_back({O.column[e], O.value[e]});
+  nodes.observeStart.assign(1, 0); nodes.observeColumn.clear(); nodes.observeValue.clear();
+  for (auto &row : rows) {
+    for (auto &entry : row) { nodes.observeColumn.push_back(entry.first); nodes.observeValue.push_back(entry.second); }
+    nodes.observeStart.push_back(nodes.observeColumn.size());
+  }
+}
+
+// 3D: the nodes' frames (rows n, t1, t2 of 9 values) and Gamma3's mean frame [T1, T2]: the
+// record sums the friction stress as a vector, sum_i w_i (lambda_tau t1_i + lambda_tau2 t2_i),
+// and reports it on T1 and T2 (the nodes' own frames may differ: a curved face, a node with a
+// fixed axis)
+void setNodeFrames(Kernel &k, const std::vector<double> &frames, const double mean[6]) {
+  requireNodes(k, "contactKernelNodeFrames");
+  if (frames.size() != 9 * (size_t)k.nodes.count()) kernelError("contactKernelNodeFrames: one row of 9 per node and 6 values expected");
+  k.nodes.frame = frames;
+  for (int c = 0; c < 3; c++) { k.nodes.meanT1[c] = mean[c]; k.nodes.meanT2[c] = mean[3 + c]; }
+}
+
+void nodeVelocities(const Kernel &k, const double *v, const std::vector<double> &cv, std::vector<double> &ov) {
+  const ContactNodes &nodes = k.nodes;
+  const int nn = nodes.count(), rows = nodes.rowsPerNode;
+  ov.assign(rows * nn, 0.);
+  if (nodes.observeStart.size() == (size_t)(rows * nn + 1)) {
+    for (int r = 0; r < rows * nn; r++)
+      for (int e = nodes.observeStart[r]; e < nodes.observeStart[r + 1]; e++) ov[r] += nodes.observeValue[e] * v[nodes.observeColumn[e]];
+    return;
+  }
+  for (int i = 0; i < nn; i++) {                  // without the observation rows: from the slots
+    if (nodes.normalSlot[i] >= 0) ov[rows * i] = cv[nodes.normalSlot[i]];
+    if (nodes.tangentSlot[i] >= 0) ov[rows * i + 1] = cv[nodes.tangentSlot[i]];
+    if (rows == 3 && nodes.tangentSlot2[i] >= 0) ov[rows * i + 2] = cv[nodes.tangentSlot2[i]];
+  }
+}
+
+}  // namespace contactkernel

@@ -1,0 +1,225 @@
+// record.cpp: what the kernel reports, from the statuses of contactlaw.hpp: the nodal table of
+// a step (contactKernelNodal: contact.txt and the end-of-run checks), the rows of
+// contact_nodes_history.txt in the columns the script names, and the record of a step (the
+// energy terms of history.txt, the forces, zones, x_B and x_C of contact_history.txt).
+#include <algorithm>
+#include <cmath>
+#include <sstream>
+#include "kernel.hpp"
+
+namespace contactkernel {
+using namespace contactlaw;
+
+namespace {
+// The values of node i from its velocities ov (nodeVelocities) and the contact stresses Lam,
+// with the statuses of contactlaw.hpp (+ 0. turns -0 into 0).
+struct NodeValues {
+  double vn, vt, vt2, pn, ln, lt, lt2, bound;
+  int normal, tangential;
+};
+NodeValues nodeValues(const Kernel &k, int i, const double *ov, const double *Lam) {
+  const ContactNodes &nodes = k.nodes;
+  const Parameters &P = k.law.P;
+  const int sn = nodes.normalSlot[i], st = nodes.tangentSlot[i], st2 = nodes.tangentSlot2[i], rows = nodes.rowsPerNode;
+  NodeValues s;
+  s.vn = ov[rows * i] + 0.;
+  s.vt = ov[rows * i + 1] + 0.;
+  s.vt2 = rows == 3 ? ov[rows * i + 2] + 0. : 0.;
+  s.pn = sn >= 0 ? Lam[sn] : 0.;
+  s.lt = st >= 0 ? Lam[st] : 0.;
+  s.lt2 = st2 >= 0 ? Lam[st2] : 0.;
+  s.ln = (sn >= 0 ? s.pn - dampedResponse(P, s.vn) : 0.) + 0.;
+  s.bound = frictionBound(P, s.vn);
+  s.normal = normalStatus(s.vn, nodes.bound[i]);
+  s.tangential = tangentialStatus(rows == 3 ? std::hypot(s.vt, s.vt2) : s.vt, nodes.bound[i]);
+  return s;
+}
+}  // namespace
+
+void nodalTable(Kernel &k, const double *v, const double *Lam, std::vector<double> &table) {
+  requireNodes(k, "contactKernelNodal");
+  requireFactor(k, "contactKernelNodal");
+  const Parameters &P = k.law.P;
+  const ContactNodes &nodes = k.nodes;
+  std::vector<double> cv, ov;
+  slotVelocities(k, v, cv);
+  nodeVelocities(k, v, cv, ov);
+  const int nn = nodes.count();
+  table.assign((size_t)nn * nodalColumnCount, 0.);
+  for (int i = 0; i < nn; i++) {
+    const NodeValues s = nodeValues(k, i, ov.data(), Lam);
+    // the force scale p(g) of the node (Slots::setBound), also where it has no slot at all
+    const double pg = dampedResponse(P, nodes.bound[i]), scale = pg > 0 ? pg : 1.;
+    double *row = table.data() + (size_t)i * nodalColumnCount;
+    row[NodalVNu] = s.vn; row[NodalVTau] = s.vt; row[NodalPNu] = s.pn; row[NodalLambdaNu] = s.ln; row[NodalLambdaTau] = s.lt;
+    row[NodalNormalStatus] = s.normal; row[NodalTangentialStatus] = s.tangential; row[NodalFrictionBound] = s.bound;
+    row[NodalForceScale] = scale; row[NodalZone] = zone(s.normal, s.tangential); row[NodalVTau2] = s.vt2;
+    row[NodalLambdaTau2] = s.lt2; row[NodalDampedResponse] = dampedResponse(P, s.vn); row[NodalG] = nodes.bound[i];
+    row[NodalDampingSlope] = dampedResponseSlope(P, nodes.bound[i]);   // p'(g): the slope Kn the solvers fold into S
+  }
+}
+
+// ---------------------------------------------------------------- contact_nodes_history.txt
+// The script (edp/lib/series.idp) names the file's columns once: the row's own step, t, node,
+// x, y, z, and any column of the nodal table; the kernel then writes the rows, compiled,
+// through one stream kept open until contactKernelCloseNodes (written from the interpreter,
+// or reopened at every step, the rows cost as much as the step), 17 digits as FreeFEM's own
+// streams write them, the integer columns as integers.
+void setNodesFileColumns(Kernel &k, const std::string &names) {
+  NodesFile &file = k.nodesFile;
+  file.columns.clear();
+  file.hasZ = false;
+  std::istringstream words(names);
+  std::string name;
+  while (words >> name) {
+    int source = columnIndex("nodal", name);
+    if (name == "step") source = NodesFile::Step;
+    else if (name == "t") source = NodesFile::Time;
+    else if (name == "node") source = NodesFile::Node;
+    else if (name == "x") source = NodesFile::X;
+    else if (name == "y") source = NodesFile::Y;
+    else if (name == "z") { source = NodesFile::Z; file.hasZ = true; }
+    else if (source < 0)
+      kernelError("contactKernelNodesColumns: no column '" + name + "' (step, t, node, x, y, z, or one of the nodal table)");
+    file.columns.push_back(source);
+  }
+}
+
+long closeNodesFile(Kernel &k) {
+  NodesFile &file = k.nodesFile;
+  if (!file.stream.is_open()) return 0;
+  file.stream.flush();
+  const bool ok = (bool)file.stream;
+  file.stream.close();
+  file.path.clear();
+  return ok && !file.stream.fail() ? 0 : 1;
+}
+
+long appendNodes(Kernel &k, const std::string &path, long n, double t, const double *x, const double *y, const double *z,
+                 const std::vector<double> &table) {
+  NodesFile &file = k.nodesFile;
+  if (file.columns.empty()) kernelError("contactKernelAppendNodes: call contactKernelNodesColumns first");
+  if (file.path != path) {
+    if (closeNodesFile(k)) return 1;
+    file.stream.open(path, std::ios::app);
+    file.stream.precision(17);
+    file.path = path;
+  }
+  int nodalColumns = 0;
+  const Column *nodal = columnsOf("nodal", nodalColumns);
+  std::ofstream &f = file.stream;
+  const int nn = (int)(table.size() / nodalColumnCount);
+  for (int i = 0; i < nn; i++) {
+    const double *row = table.data() + (size_t)i * nodalColumnCount;
+    for (size_t c = 0; c < file.columns.size(); c++) {
+      if (c > 0) f << " ";
+      switch (const int source = file.columns[c]) {
+        case NodesFile::Step: f << n; break;
+        case NodesFile::Time: f << t; break;
+        case NodesFile::Node: f << i; break;
+        case NodesFile::X: f << x[i]; break;
+        case NodesFile::Y: f << y[i]; break;
+        case NodesFile::Z: f << z[i]; break;
+        default:
+          if (nodal[source].integer) f << std::lround(row[source]);
+          else f << row[source];
+      }
+    }
+    f << "\n";
+  }
+  return f ? 0 : 1;
+}
+
+// ---------------------------------------------------------------- the record of a step
+void recordStart(Kernel &k, const double *v0, const double *u0, double *Mv, double *Bu) {
+  requireNodes(k, "contactKernelRecordStart");
+  requireFactor(k, "contactKernelRecordStart");
+  requireProducts(k, "contactKernelRecordStart");
+  const ProductMatrices &products = k.products;
+  EnergyRecord &record = k.record;
+  const int n = products.n;
+  if (k.factor.n != n) kernelError("contactKernelRecordStart: wrong argument sizes");
+  record.vOld.assign(v0, v0 + n);
+  record.Mv.resize(n); record.Av.resize(n); record.Bv.resize(n);
+  std::vector<double> u(u0, u0 + n), Mu(n);
+  products.apply(record.vOld.data(), record.Mv.data(), record.Av.data(), record.Bv.data());
+  double kinetic = 0;
+  for (int i = 0; i < n; i++) { Mv[i] = record.Mv[i]; kinetic += 0.5 * record.vOld[i] * record.Mv[i]; }
+  products.apply(u.data(), Mu.data(), record.Av.data(), record.Bv.data());
+  double elastic = 0;
+  for (int i = 0; i < n; i++) { Bu[i] = record.Bv[i]; elastic += 0.5 * u[i] * record.Bv[i]; }
+  record.energyOld = kinetic + elastic;
+  record.generation = k.factor.generation;
+  record.step = 0;
+}
+
+// In: v = v_n, u = u_n, Lam (total contact stress per slot), f = f_n (the load of the step),
+// Mv = M v_{n-1}, Bu = B u_{n-1}. Out: Mv = M v_n and Bu = B u_n (for the next right-hand
+// side) and rec, the columns "record" of columns.hpp: the energy terms, the forces, the zone
+// counts, x_B and x_C (1e300 for one that does not exist); the tangential forces sum W lambda_tau
+// and W lambda_tau2 in 2D (the second 0), and in 3D are the vector sum of
+// W (lambda_tau t1 + lambda_tau2 t2) on Gamma3's mean frame T1, T2. The discrete energy balance
+// (docs/design.md, section "Energy identity"), test function w = v_n:
+//   E_n - E_{n-1} + 1/2 m(v_n - v_{n-1}) + k^2/2 b(v_n) + k a(v_n) + k (C'W Lam)'v_n = k f_n'v_n
+bool recordStep(Kernel &kernel, const double *pv0, const double *pu0, const double *Lam, const double *pf0, double *pMv0,
+                double *pBu0, double *rec) {
+  const ProductMatrices &products = kernel.products;
+  const ContactNodes &nodes = kernel.nodes;
+  EnergyRecord &record = kernel.record;
+  const double k = kernel.settings.dt;
+  // three products in one pass; M (v_n - v_{n-1}) = M v_n - M v_{n-1} and B u_n = B u_{n-1} + k B v_n
+  // (u_n = u_{n-1} + k v_n), so no product with v_{n-1} or u
+  double *vOld = record.vOld.data();
+  double vMv = 0, vAv = 0, vBv = 0, dvMdv = 0, uBu = 0, fv = 0;
+  products.forEachRow(pv0, [&](int i, double m, double a, double b) {   // each row once its products are known
+    const double vi = pv0[i], bu = pBu0[i] + k * b;
+    vMv += vi * m; vAv += vi * a; vBv += vi * b; dvMdv += (vi - vOld[i]) * (m - pMv0[i]);
+    uBu += pu0[i] * bu;
+    fv += pf0[i] * vi;
+    pMv0[i] = m; pBu0[i] = bu; vOld[i] = vi;
+  });
+  std::vector<double> cv;
+  slotVelocities(kernel, pv0, cv);
+  double contact = 0;
+  for (int j = 0; j < kernel.factor.nc; j++) contact += nodes.slotWeight[j] * Lam[j] * cv[j];
+  const double kinetic = 0.5 * vMv, elastic = 0.5 * uBu, kineticJump = 0.5 * dvMdv, elasticJump = 0.5 * k * k * vBv;
+  const double viscous = k * vAv, contactWork = k * contact, external = k * fv;
+  const double numerical = kineticJump + elasticJump;
+  const double balance = kinetic + elastic - record.energyOld + numerical + viscous + contactWork - external;
+  const double largest = std::max({std::fabs(kinetic), std::fabs(elastic), std::fabs(record.energyOld), numerical,
+                                   viscous, std::fabs(contactWork), std::fabs(external)});
+  record.energyOld = kinetic + elastic;
+  rec[RecordKinetic] = kinetic; rec[RecordElastic] = elastic; rec[RecordNumericalDissipation] = numerical;
+  rec[RecordViscousDissipation] = viscous; rec[RecordContactDissipation] = contactWork; rec[RecordExternalWork] = external;
+  rec[RecordEnergyResidual] = largest > 0 ? std::fabs(balance) / largest : 0.; rec[RecordKineticJump] = kineticJump;
+  rec[RecordElasticJump] = elasticJump;
+  std::vector<double> ov;
+  nodeVelocities(kernel, pv0, cv, ov);
+  double normalForce = 0, tangentialForce = 0, tangentialForce2 = 0, xB = 1e300, xC = 1e300;
+  long zones[5] = {0, 0, 0, 0, 0};
+  for (int i = 0; i < nodes.count(); i++) {
+    const NodeValues s = nodeValues(kernel, i, ov.data(), Lam);
+    zones[zone(s.normal, s.tangential)]++;
+    if (s.normal == 2) xB = std::min(xB, nodes.x[i]);
+    if (s.normal > 0 && s.tangential == 0) xC = std::min(xC, nodes.x[i]);
+    normalForce += nodes.weight[i] * s.pn;
+    if (nodes.frame.empty()) {                     // 2D: along each node's tangent
+      tangentialForce += nodes.weight[i] * s.lt;
+      tangentialForce2 += nodes.weight[i] * s.lt2;
+    }
+    else {                                         // 3D: the vector on Gamma3's mean frame
+      const double *f = nodes.frame.data() + 9 * i;
+      for (int c = 0; c < 3; c++) {
+        const double component = nodes.weight[i] * (s.lt * f[3 + c] + s.lt2 * f[6 + c]);
+        tangentialForce += component * nodes.meanT1[c];
+        tangentialForce2 += component * nodes.meanT2[c];
+      }
+    }
+  }
+  rec[RecordNormalForce] = normalForce; rec[RecordTangentialForce] = tangentialForce;
+  for (int z = 0; z < 5; z++) rec[RecordZoneFree + z] = zones[z];
+  rec[RecordXB] = xB; rec[RecordXC] = xC; rec[RecordTangentialForce2] = tangentialForce2;
+  return std::isfinite(balance);
+}
+
+}  // namespace contactkernel

@@ -1,0 +1,44 @@
+// registry.cpp: the kernel instances, the one mutable object at file scope. The FreeFEM
+// functions act on the current instance; a script may make another (contactKernelNew), e.g.
+// for a pilot solve in the same process, and switch between them (contactKernelUse).
+#include <memory>
+#include "kernel.hpp"
+
+namespace contactkernel {
+namespace {
+struct Registry {
+  std::vector<std::unique_ptr<Kernel>> instances;   // by id; a deleted one is null
+  long current = 0;
+  Registry() { instances.emplace_back(new Kernel()); }
+};
+Registry registry;
+
+Kernel *instance(long id) {
+  return id >= 0 && id < (long)registry.instances.size() ? registry.instances[id].get() : nullptr;
+}
+}  // namespace
+
+Kernel &currentKernel() { return *registry.instances[registry.current]; }
+
+long newKernel() {
+  registry.instances.emplace_back(new Kernel());
+  registry.current = (long)registry.instances.size() - 1;
+  return registry.current;
+}
+
+long useKernel(long id) {
+  if (!instance(id)) kernelError("contactKernelUse: no kernel instance " + std::to_string(id));
+  const long previous = registry.current;
+  registry.current = id;
+  return previous;
+}
+
+long currentKernelId() { return registry.current; }
+
+void deleteKernel(long id) {
+  if (!instance(id)) kernelError("contactKernelDelete: no kernel instance " + std::to_string(id));
+  if (id == registry.current) kernelError("contactKernelDelete: instance " + std::to_string(id) + " is the current one");
+  registry.instances[id].reset();
+}
+
+}  // namespace contactkernel

@@ -1,0 +1,161 @@
+"""style.py: the look the figures share: matplotlib set up for files (pyplot, STYLE, save),
+the zones' names and colours (ZONES, zone_patches, zone_counts_plot), the energy terms of
+history.txt (energy_terms_plot), labels, and a figure shaped to the body it shows
+(magnification, body_figure). Imported by the scripts of plots/, which put edp/ (runfiles)
+on the path.
+"""
+import collections
+import os
+
+import numpy as np
+
+import runfiles
+
+STYLE = {
+    "figure.figsize": (11, 4),
+    "figure.dpi": 100,
+    "axes.grid": True,
+    "grid.alpha": 0.3,
+    "font.size": 9,
+    "lines.linewidth": 1.2,
+    "lines.markersize": 3,
+}
+
+
+def pyplot(overrides=None):
+    """matplotlib.pyplot on the Agg backend (files only, never a window), with STYLE and then
+    the overrides (rcParams)."""
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    plt.rcParams.update(STYLE)
+    plt.rcParams.update(overrides or {})
+    return plt
+
+
+def save(fig, out, name, tight_layout=True):
+    """Write the figure to OUT/NAME.png (never through a symbolic link: runfiles.new_file),
+    close it, return the path."""
+    import matplotlib.pyplot as plt
+    path = os.path.join(out, name + ".png")
+    if tight_layout:
+        fig.tight_layout()
+    with runfiles.new_file(path) as f:
+        fig.savefig(f, format="png")
+    plt.close(fig)
+    return path
+
+
+def problem_label(params):
+    """'original problem' or 'penalty problem, eps = ...' from a file's parameter lines."""
+    if params.get("problem") == "penalty":
+        return f"penalty problem, $\\varepsilon$ = {params['eps']}"
+    return f"{params.get('problem', '?')} problem"
+
+
+def nodes(count):
+    """'1 node', '2 nodes', ..."""
+    return f"{count} node" if count == 1 else f"{count} nodes"
+
+
+# The zones (docs/figures.md, "The zones"): the code (the column zone of contact.txt and
+# contact_nodes_history.txt, contact_zone of the VTK files), the column of summary.txt and
+# contact_history.txt, the name and the colour in every figure.
+Zone = collections.namedtuple("Zone", "code column name color")
+ZONES = tuple(Zone(code, column, name, color) for code, (column, name, color) in enumerate(zip(
+    runfiles.ZONE_COLUMNS, ("free", "damped, slip", "damped, stick", "at the bound, slip", "at the bound, stick"),
+    ("0.6", "tab:green", "tab:olive", "tab:orange", "tab:purple"))))
+ZONE_COLORS = {zone.code: zone.color for zone in ZONES}
+
+
+def zone_patches(codes=None, alpha=1.0):
+    """Legend handles of the zones: all five, or those of the given zone codes of nodes, with
+    their node counts."""
+    from matplotlib.patches import Patch
+    if codes is None:
+        return [Patch(color=zone.color, alpha=alpha, label=zone.name) for zone in ZONES]
+    counts = {zone: int(np.sum(np.asarray(codes) == zone.code)) for zone in ZONES}
+    return [Patch(color=zone.color, alpha=alpha, label=f"{zone.name}: {nodes(count)}")
+            for zone, count in counts.items() if count]
+
+
+def zone_counts_plot(ax, h):
+    """The nodes of each zone against t, from a contact_history.txt."""
+    for zone in ZONES:
+        ax.plot(h["t"], h[zone.column], color=zone.color, label=zone.name)
+    ax.set_xlabel("t [s]")
+    ax.set_ylabel("nodes")
+    ax.set_title("nodes per zone on $\\Gamma_3$")
+    ax.legend(fontsize=7)
+
+
+# The energy terms of history.txt (docs/design.md, "Energy identity"): column, label, and
+# whether a figure sums it over the steps (the dissipations and the work of a step).
+ENERGY_TERMS = (("kinetic", "kinetic", False), ("elastic", "elastic", False),
+                ("numerical_dissipation", "numerical dissipation (cumulative)", True),
+                ("viscous_dissipation", "viscous dissipation (cumulative)", True),
+                ("contact_dissipation", "contact dissipation (cumulative)", True),
+                ("external_work", "external work (cumulative)", True))
+
+
+def energy_terms_plot(ax, h, style="-", labelled=True):
+    """The energy terms of a history.txt against t on a log scale (0 is not drawn), a colour
+    a term, labelled or not."""
+    import matplotlib
+    colors = matplotlib.rcParams["axes.prop_cycle"].by_key()["color"]
+    for (column, label, cumulative), color in zip(ENERGY_TERMS, colors):
+        values = np.cumsum(h[column]) if cumulative else h[column]
+        ax.semilogy(h["t"], values, style, color=color, label=label if labelled else None)
+    ax.set_xlabel("t [s]")
+    ax.set_ylabel("energy per unit thickness [GJ/m]")
+
+
+def magnification(size, largest):
+    """The factor (1, 2 or 5 times a power of 10) that shows displacements of at most
+    `largest` on a body of extent `size` at about a tenth of it; 1 when they show already (a
+    fiftieth of it or more) or are 0."""
+    if largest <= 0 or largest >= 0.02 * size:
+        return 1.0
+    wanted = 0.1 * size / largest
+    decade = 10.0 ** np.floor(np.log10(wanted))
+    return float(max(step * decade for step in (1, 2, 5) if step * decade <= wanted))
+
+
+def body_axes(extent, box=(8.0, 6.0), least=2.0):
+    """Width and height in inches of axes that show a body of extent (width, height) at equal
+    aspect: as large as fits in box, no side under least (a tall column gets tall, narrow axes,
+    not a wide figure two thirds empty)."""
+    width, height = (max(float(side), 1e-12) for side in extent)
+    inches = min(box[0] / width, box[1] / height)
+    return max(width * inches, least), max(height * inches, least)
+
+
+def legend_columns(fig, most=3, width=2.4):
+    """How many columns (of `width` inches, at most `most`) a legend across the figure may have."""
+    return int(max(1, min(most, fig.get_figwidth() // width)))
+
+
+def body_figure(points, title, legend=(0, 3, 2.4), box=(8.0, 6.0), right=2.0):
+    """A figure and axes for a body whose points (n, 2) it must show, shaped to it (body_axes
+    within box; right: inches for a colour bar), x [m] and y [m] at equal aspect, the limits
+    those of the points with a margin of a twentieth, the title (its lines wrapped to the
+    width), room below for a legend of legend = (entries, most columns, column width) laid
+    out as legend_columns() will."""
+    import textwrap
+    plt = pyplot()
+    low, high = np.min(points, axis=0), np.max(points, axis=0)
+    margin = 0.05 * (high - low).max()
+    low, high = low - margin, high + margin
+    width, height = body_axes(high - low, box)
+    figure_width = width + right + 0.9
+    entries, most, column = legend
+    rows = -(-entries // int(max(1, min(most, figure_width // column))))
+    lines = [line for part in title.split("\n") for line in textwrap.wrap(part, max(30, int(figure_width * 12)))]
+    fig, ax = plt.subplots(figsize=(figure_width, height + 0.9 + 0.2 * len(lines) + 0.22 * rows))
+    ax.set_xlim(low[0], high[0])
+    ax.set_ylim(low[1], high[1])
+    ax.set_aspect("equal")
+    ax.set_xlabel("x [m]")
+    ax.set_ylabel("y [m]")
+    ax.set_title("\n".join(lines))
+    return fig, ax

@@ -206,11 +206,12 @@ def write_table(path, comments, columns, rows):
 
 
 # ---------------------------------------------------------------- text files, tables, summary.txt
-def read_lines(path):
+def read_lines(path, newline=None):
     """The lines of a text file, split at line feeds only (not at the form feeds, U+2028, ...
-    that str.splitlines() also takes for line ends)."""
+    that str.splitlines() also takes for line ends); newline="" keeps a carriage return as a
+    character of its line (open's newline)."""
     try:
-        with open(path) as f:
+        with open(path, newline=newline) as f:
             text = f.read()
     except FileNotFoundError:
         raise InputError(f"missing {path}") from None
@@ -301,6 +302,9 @@ def read_table(path, dtype=float, empty=False):
     if not header or not header[-1]:
         raise InputError(f"{path}: no '#' line naming the columns")
     columns = header[-1]
+    repeated = sorted({name for name in columns if columns.count(name) > 1})
+    if repeated:
+        raise InputError(f"{path}: the column {shown(repeated[0])} is named twice in the '#' line naming the columns")
     params = Values(path, (words for words in header[:-1] if len(words) == 2))
     rows = [(number, line) for number, line in enumerate(lines[len(header):], len(header) + 1)
             if line.split("#", 1)[0].strip()]
@@ -318,7 +322,7 @@ def read_table(path, dtype=float, empty=False):
             try:
                 [dtype(word) for word in words]
             except ValueError:
-                raise InputError(f"{path}:{number}: unreadable numbers in '{line}'") from None
+                raise InputError(f"{path}:{number}: unreadable numbers in '{shown(line)}'") from None
             if len(words) != len(columns):
                 raise InputError(f"{path}:{number}: {len(words)} values for the {len(columns)} columns "
                                  f"{' '.join(columns)}")
@@ -552,7 +556,7 @@ def _option_table():
             options.append(Option(name, kind, bounds, None if default == "-" else default,
                                   words[4] if len(words) > 4 else ""))
         else:
-            raise InputError(f"{path}:{number}: cannot read '{line}'")
+            raise InputError(f"{path}:{number}: cannot read '{shown(line)}'")
     return tuple(options), tuple(rules)
 
 
@@ -593,9 +597,10 @@ def read_scene(scene):
 
 def effective_options(given, scene=None):
     """The options a run used, as Values: the defaults of edp/options.txt, then the scene's
-    (the scene argument, else given["scene"], else the table's), its damping line's C as -cnu
-    (0 for a table), then the given ones (name -> value, without the '-'), then the 'when'
-    rules for the options not given. An option with no value anywhere is left out."""
+    (the scene argument, else given["scene"], else the table's), then the given ones (name ->
+    value, without the '-'), then the 'when' rules for the options not given. An option with
+    no value anywhere is left out: -cnu unless given (its default is the scene's damping C,
+    which only the kernel's family table knows; a finished run echoes it in its headers)."""
     options, rules = option_table()
     unknown = [name for name in given if name not in options]
     if unknown:
@@ -603,9 +608,6 @@ def effective_options(given, scene=None):
     values = {name: option.default for name, option in options.items() if option.default is not None}
     read = read_scene(scene or given.get("scene") or values["scene"])
     values.update(read.options)
-    damping = read.data.get("damping")
-    if damping:
-        values["cnu"] = damping[0][1] if damping[0][0] in ("linear", "power") and len(damping[0]) > 1 else "0"
     values.update(given)
     for rule in rules:
         if rule.name not in given and values.get(rule.option) == rule.value:
@@ -662,13 +664,22 @@ def solver_failure(message):
 @functools.lru_cache(maxsize=None)
 def figure_names():
     """The figures the tools of plots/ may draw into a run folder's figures/: edp/figures.txt,
-    one name a line ('#' lines are comments), the one list (the plugin runtools reads it too)."""
+    the one list (the plugin runtools reads it too, with the same rules: runFigureNames of
+    edp/plugins/runtools/runfolder.cpp): one name a line, '#' starts a comment line, empty
+    lines are skipped; a name is [A-Za-z0-9_][A-Za-z0-9_.-]*, not figures.list; at least one."""
     path = os.path.join(EDP, "figures.txt")
-    names = tuple(line.strip() for line in read_lines(path) if line.strip() and not line.startswith("#"))
-    bad = [name for name in names if "/" in name or name.startswith(".") or len(name.split()) != 1]
-    if bad or not names:
-        raise InputError(f"{path}: not a list of file names, one a line ({shown(bad[0]) if bad else 'none'})")
-    return names
+    names = []
+    for number, line in enumerate(read_lines(path, newline=""), 1):
+        if not line or line.startswith("#"):
+            continue
+        if not re.fullmatch(r"[A-Za-z0-9_][A-Za-z0-9_.-]*", line, re.ASCII) or line == "figures.list":
+            raise InputError(f"{path}:{number}: '{shown(line)}' is not the file name of a figure (one name a line, of "
+                             "letters, digits, '_', '.' and '-', not starting with '.' or '-', not figures.list; '#' "
+                             "starts a comment line)")
+        names.append(line)
+    if not names:
+        raise InputError(f"{path} names no figure")
+    return tuple(names)
 
 
 # ---------------------------------------------------------------- comparing two runs

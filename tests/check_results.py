@@ -50,17 +50,26 @@ class Checks(Checker, Checks3D, KnownAnswers):
     known answers); each records its failures."""
 
     def check_contact(self, rtol):
-        """The nodal laws at T against the law's columns: p_nu = damped_response + lambda_nu,
+        """The nodal laws at T (check_law), then the zone counts."""
+        stress_roundoff = self.check_law(rtol)
+        self.check_zone_counts(rtol, stress_roundoff)
+
+    def check_law(self, rtol, c=None, step=-1, where=""):
+        """The nodal laws against the law's columns: p_nu = damped_response + lambda_nu,
         friction_bound = mu damped_response, the constraint and complementarity (original) or
-        the penalty law, then the friction cone and the zone counts."""
-        c, mu = self.c, self.real("mu")
+        the penalty law, then the friction cone. c: the nodes' columns at a step (contact.txt,
+        at T, by default), step its index into the histories, where what the messages start
+        with. Returns the stresses' round-off allowances."""
+        c = self.c if c is None else c
+        mu = self.real("mu")
+        self.where = where
         vn, pn, ln = c["v_nu"], c["p_nu"], c["lambda_nu"]
         g, scale, bound = c["g"], c["force_scale"], c["friction_bound"]     # the law's, at each node
         # the round-off allowances (ROUNDOFF): of a normal velocity, of the terms it is computed
         # from (velocity_terms); of a stress, of its terms (stress_terms); of the friction
         # stress and its bound, of both stresses
-        velocity_roundoff = ROUNDOFF * (np.abs(vn) + self.normal_velocity_terms())
-        stress_roundoff = ROUNDOFF * self.stress_terms(vn)
+        velocity_roundoff = ROUNDOFF * (np.abs(vn) + self.normal_velocity_terms(step))
+        stress_roundoff = ROUNDOFF * self.stress_terms(vn, c, step)
         excess, err, allow = worst(np.abs(pn - c["damped_response"] - ln) / scale, stress_roundoff / scale)
         self.expect(excess <= rtol, f"p_nu != damped_response + lambda_nu: {err:.3e} p(g) (round-off allowance {allow:.1e})")
         excess, err, allow = worst(np.abs(bound - mu * c["damped_response"]) / scale, mu * stress_roundoff / scale)
@@ -87,15 +96,16 @@ class Checks(Checker, Checks3D, KnownAnswers):
                                        (eps * stress_roundoff + velocity_roundoff) / unit)
             self.expect(excess <= rtol, f"penalty law eps lambda_nu = (v_nu - g)_+ off by {err:.3e} g "
                         f"(round-off allowance {allow:.1e})")
-        self.check_friction(rtol, stress_roundoff)
-        self.check_zone_counts(rtol, stress_roundoff)
+        self.check_friction(rtol, stress_roundoff, c, step)
+        self.where = ""
+        return stress_roundoff
 
-    def check_friction(self, rtol, stress_roundoff):
+    def check_friction(self, rtol, stress_roundoff, c, step):
         """The friction cone |lambda_tau| <= friction_bound, with equality on the sliding nodes
         (tangential status 1) and the stress along the slip. |v_tau|, |lambda_tau|: in 3D the
         lengths of the pairs (t1, t2) of the disk law (docs/design.md, "Three dimensions"); in
         2D the absolute values (v_tau2 = lambda_tau2 = 0)."""
-        c, mu = self.c, self.real("mu")
+        mu = self.real("mu")
         vt, lt, g, scale, bound = c["v_tau"], c["lambda_tau"], c["g"], c["force_scale"], c["friction_bound"]
         vt2, lt2 = self.second_tangent(c, "v_tau2", "lambda_tau2")
         speed, stress = np.hypot(vt, vt2), np.hypot(lt, lt2)
@@ -125,8 +135,8 @@ class Checks(Checker, Checks3D, KnownAnswers):
         pushed &= stress > 0            # (a sliding node without stress is off the bound, above)
         across = np.where(pushed, np.abs(vt * lt2 - vt2 * lt) / np.where(pushed, stress, 1.0) / g, 0.0)
         # round-off: of the tangential velocities' terms (velocity_terms of the friction force)
-        tangential = self.velocity_terms(np.hypot(self.ch["tangential_force"][-1], self.ch["tangential_force2"][-1]),
-                                         self.h["kinetic"][-1])
+        tangential = self.velocity_terms(np.hypot(self.ch["tangential_force"][step], self.ch["tangential_force2"][step]),
+                                         self.h["kinetic"][step])
         allowed = rtol + ROUNDOFF * (speed + tangential) / g
         node = int(np.argmax(across - allowed))
         self.expect(across[node] <= allowed[node], f"sliding node {node}: v_tau has a component of "
@@ -255,9 +265,10 @@ class Checks(Checker, Checks3D, KnownAnswers):
         u2 = (k * np.cumsum(np.sqrt(v2))) ** 2
         return ((k * viscous + k * k * stiff) * v2 + stiff * u2) / h2
 
-    def check_series(self):
+    def check_series(self, rtol):
         """contact_nodes_history.txt: one row per contact node at the steps -every gives (and the
-        last); at each, the zone counts of contact_history.txt; at the last, contact.txt exactly."""
+        last), finite; at each, the nodal laws (check_law, with that step's allowances) and the
+        zone counts of contact_history.txt; at the last, contact.txt exactly."""
         path = os.path.join(self.folder, "contact_nodes_history.txt")
         if not self.expect(os.path.isfile(path), "missing contact_nodes_history.txt"):
             return
@@ -267,8 +278,19 @@ class Checks(Checker, Checks3D, KnownAnswers):
         if not self.expect(len(nh) == len(c) * len(recorded),
                            f"contact_nodes_history.txt has {len(nh)} rows, expected {len(c)} nodes x {len(recorded)} steps"):
             return
+        if not self.expect(bool(np.isfinite(nh.data).all()), "contact_nodes_history.txt holds non-finite numbers"):
+            return
+        for name, high in (("normal_status", 2), ("tangential_status", 1), ("zone", len(runfiles.ZONE_COLUMNS) - 1)):
+            nh.codes(name, 0, high)
         step = nh["step"].reshape(len(recorded), len(c))
         self.expect((step == np.array(recorded)[:, None]).all(), "contact_nodes_history.txt: not the steps -every gives")
+        failures = len(self.failures)
+        for row, n in enumerate(recorded[:-1]):       # (the last: contact.txt, checked by check_contact)
+            rows = slice(row * len(c), (row + 1) * len(c))
+            self.check_law(rtol, {name: nh[name][rows] for name in nh.columns}, n - 1,
+                           f"contact_nodes_history.txt, step {n}: ")
+            if len(self.failures) > failures:        # the first step that fails says it
+                break
         zone = nh["zone"].reshape(len(recorded), len(c)).astype(int)
         for row, n in enumerate(recorded):
             counts = [int((zone[row] == z).sum()) for z in range(5)]
@@ -371,7 +393,7 @@ def main():
         if check.dim == 3:
             check.check_frame(args.rtol)
         check.check_energy(args.rtol)
-        check.check_series()
+        check.check_series(args.rtol)
         check.check_stress(args.rtol)
         if args.zones:
             check.check_zones(args.zones)

@@ -41,15 +41,17 @@ class Refusal(Exception):
 
 class Checker:
     """The outputs of one run folder (load) and the magnitudes its checks allow round-off of;
-    expect() records a failed check's message in failures."""
+    expect() records a failed check's message in failures, after where (what a check of
+    another table than contact.txt starts its messages with)."""
 
     def __init__(self, folder):
         self.folder = folder
         self.failures = []
+        self.where = ""
 
     def expect(self, condition, message):
         if not condition:
-            self.failures.append(message)
+            self.failures.append(self.where + message)
         return condition
 
     def load(self):
@@ -107,7 +109,7 @@ class Checker:
     def second_tangent(self, table, *names):
         """The columns v_tau2, lambda_tau2 (names) of a 3D table; zeros in 2D, where a node has
         one tangent: then |(v_tau, v_tau2)| = |v_tau| exactly."""
-        return [table[name] if self.dim == 3 else np.zeros(len(table)) for name in names]
+        return [table[name] if self.dim == 3 else np.zeros(len(table["x"])) for name in names]
 
     def count(self, key):
         """A whole number of summary.txt."""
@@ -149,18 +151,20 @@ class Checker:
         mass = rho * self.body()[0]
         return g + np.sqrt(2 * np.maximum(kinetic, 0.0) / mass) + k * np.abs(force) / (mass + k * slope)
 
-    def normal_velocity_terms(self):
-        """velocity_terms of the normal velocities at T."""
-        return self.velocity_terms(self.ch["normal_force"][-1], self.h["kinetic"][-1],
+    def normal_velocity_terms(self, step=-1):
+        """velocity_terms of the normal velocities at a step (index into the histories; T by
+        default)."""
+        return self.velocity_terms(self.ch["normal_force"][step], self.h["kinetic"][step],
                                    self.damping_slope() * float(np.sum(self.c["weight"])))
 
-    def stress_terms(self, v_nu):
+    def stress_terms(self, v_nu, c=None, step=-1):
         """The magnitude of the terms each node's contact stresses are computed from: |p_nu|,
         |lambda_nu|, |lambda_tau| themselves (the damped response is p_nu - lambda_nu), and
         the damping slope times the velocity, K_n (|v_nu| + the velocity terms): the solver
         writes a normal stress as p_nu = K_n v_nu + m (docs/design.md, "Condensation"), which
-        cancels to 0 on a free node of a body flying away."""
-        c = self.c
+        cancels to 0 on a free node of a body flying away. c: the nodes' columns at the step
+        (contact.txt's at T by default)."""
+        c = self.c if c is None else c
         second, = self.second_tangent(c, "lambda_tau2")
         stress = np.abs(c["p_nu"]) + np.abs(c["lambda_nu"]) + np.hypot(c["lambda_tau"], second)
-        return stress + self.damping_slope() * (np.abs(v_nu) + self.normal_velocity_terms())
+        return stress + self.damping_slope() * (np.abs(v_nu) + self.normal_velocity_terms(step))

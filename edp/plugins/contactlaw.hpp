@@ -468,11 +468,17 @@ struct Slots {
 // a law can only be sampled): p(r) = p'(r) = 0 for r <= 0; p finite and nondecreasing; the
 // friction bound finite and >= 0; each slope equal to the difference quotient on its left,
 // its right or across r (a kink at r takes the slope on its left); the statuses and zones in
-// their ranges.
+// their ranges; the force scale p(g) 0 or at least 1e-150 (the residual weighs a stress by
+// 1/p(g), Slots::setAugmentation).
 inline int checkLaw(const Parameters &P, double g, std::string &why) {
   auto text = lawNumber;
   const double h = 1e-7 * g;
   if (!(h > 0 && std::isfinite(8 * g))) { why = "g = " + text(g) + " is too small or too large to sample the law"; return 1; }
+  const double pg = dampedResponse(P, g);
+  if (pg > 0 && pg < 1e-150) {
+    why = "p(g) = " + text(pg) + " is above 0 but below 1e-150: the residual weighs the stresses by 1/p(g)";
+    return 1;
+  }
   // |slope - difference quotient of f at r| small on one side or across r
   auto matches = [h](double (*f)(const Parameters &, double), const Parameters &P, double r, double slope, double scale) {
     const double left = (f(P, r) - f(P, r - h)) / h, right = (f(P, r + h) - f(P, r)) / h;

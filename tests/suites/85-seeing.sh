@@ -88,3 +88,25 @@ for figure in extra.png other.png; do
   esac
 done
 report $status "the figures' names: runtools follows edp/figures.txt (a name added there goes with its run, another blocks it)" "$diag"
+# the same rules in both readers: a malformed edp/figures.txt stops the solver (exit 3, naming
+# the file) and the plot tools' reader (runfiles.figure_names) alike
+diag="$work/names-bad.diag"; : > "$diag"; status=0
+for bad in crlf bom blank-name leading-dash list-name none; do
+  cp edp/figures.txt "$names/edp/figures.txt"
+  case $bad in
+    crlf) sed -i 's/$/\r/' "$names/edp/figures.txt" ;;
+    bom) sed -i '1s/^/\xef\xbb\xbf/' "$names/edp/figures.txt" ;;
+    blank-name) echo " a.png" >> "$names/edp/figures.txt" ;;
+    leading-dash) echo "-a.png" >> "$names/edp/figures.txt" ;;
+    list-name) echo "figures.list" >> "$names/edp/figures.txt" ;;
+    none) grep '^#' edp/figures.txt > "$names/edp/figures.txt" ;;
+  esac
+  rc=0; "${FREEFEM[@]}" "$names/edp/solve.edp" "${coarse[@]}" -out "$work/names-bad-out" >> "$diag" 2>&1 || rc=$?
+  [ $rc = 3 ] && [ ! -e "$work/names-bad-out" ] || { echo "$bad: the solver exited $rc" >> "$diag"; status=1; }
+  rc=0; "$PYTHON" -c "import sys; sys.path.insert(0, sys.argv[1]); import runfiles; runfiles.run_tool('names', runfiles.figure_names)" \
+    "$names/edp" >> "$diag" 2>&1 || rc=$?
+  [ $rc = 1 ] || { echo "$bad: figure_names exited $rc" >> "$diag"; status=1; }
+done
+[ "$(grep -c "figures.txt" "$diag")" -ge 12 ] || { echo "not every message names figures.txt" >> "$diag"; status=1; }
+cp edp/figures.txt "$names/edp/figures.txt"
+report $status "the figures' names: a malformed edp/figures.txt stops the solver (exit 3) and the plot tools alike" "$diag"

@@ -298,21 +298,22 @@ long solve(KN<double> *const &pb, KN<double> *const &px) {
   return 0;
 }
 
-long freeHalf(KN<double> *const &pb, KN<double> *const &pc) {
+// who: the FreeFEM function called (contactKernelFree, or a *Step function that calls it)
+long freeHalfAs(const char *who, KN<double> *const &pb, KN<double> *const &pc) {
   Kernel &k = kernel();
-  requireFactor(k, "contactKernelFree");
-  if (pb->N() != k.factor.n) ExecError("contactKernelFree: wrong size of the right-hand side");
+  requireFactor(k, who);
+  if (pb->N() != k.factor.n) ExecError(std::string(who) + ": wrong size of the right-hand side");
   std::vector<double> spare, c(k.factor.nc);
   freeVelocity(k, plain(*pb, spare), c.data());
   copyInto(*pc, c.data(), k.factor.nc);
   return 0;
 }
 
-long finishHalf(KN<double> *const &pm, KN<double> *const &pv) {
+long finishHalfAs(const char *who, KN<double> *const &pm, KN<double> *const &pv) {
   Kernel &k = kernel();
-  requireFactor(k, "contactKernelFinish");
-  if (!k.factor.haveForward) ExecError("contactKernelFinish: call contactKernelFree first");
-  if (pm->N() != k.factor.nc) ExecError("contactKernelFinish: one multiplier per slot expected");
+  requireFactor(k, who);
+  if (!k.factor.haveForward) ExecError(std::string(who) + ": call contactKernelFree first");
+  if (pm->N() != k.factor.nc) ExecError(std::string(who) + ": one multiplier per slot expected");
   std::vector<double> m = copyOf(*pm), spare;
   KN<double> &v = *pv;
   if (v.N() != k.factor.n) v.resize(k.factor.n);
@@ -321,6 +322,8 @@ long finishHalf(KN<double> *const &pm, KN<double> *const &pv) {
   if (out == spare.data()) copyInto(v, out, k.factor.n);     // a strided v: written back
   return 0;
 }
+long freeHalf(KN<double> *const &pb, KN<double> *const &pc) { return freeHalfAs("contactKernelFree", pb, pc); }
+long finishHalf(KN<double> *const &pm, KN<double> *const &pv) { return finishHalfAs("contactKernelFinish", pm, pv); }
 
 long products(Matrice_Creuse<double> *const &pM, Matrice_Creuse<double> *const &pA, Matrice_Creuse<double> *const &pB) {
   MatriceMorse<double> *mats[3] = {morse(pM), morse(pA), morse(pB)};
@@ -381,15 +384,18 @@ long fixedPoint(KN<double> *const &pcFree, KN<double> *const &pc, KN<double> *co
 
 // A whole contact solve in one call: cFree = C S^-1 rhs (contactKernelFree), the solver,
 // then v = S^-1 (rhs - C'W m) (contactKernelFinish). The same three calls the script makes
-// for its own solvers, without the interpreter's cost of three.
-template <long (*solver)(KN<double> *const &, KN<double> *const &, KN<double> *const &, KN<double> *const &)>
+// for its own solvers, without the interpreter's cost of three. Messages name the function
+// called (contactKernelNewtonStep, contactKernelFixedPointStep).
+const char newtonStepName[] = "contactKernelNewtonStep", fixedPointStepName[] = "contactKernelFixedPointStep";
+template <StepSolver solver, const char *who>
 long wholeStep(KN<double> *const &prhs, KN<double> *const &pv, KN<double> *const &pc, KN<double> *const &pm,
                KN<double> *const &pinfo) {
+  requireFactor(kernel(), who);
   KN<double> cFree(kernel().factor.nc);
   KN<double> *pFree = &cFree;
-  freeHalf(prhs, pFree);
-  const long it = solver(pFree, pc, pm, pinfo);
-  finishHalf(pm, pv);
+  freeHalfAs(who, prhs, pFree);
+  const long it = solveContact(solver, who, pFree, pc, pm, pinfo);
+  finishHalfAs(who, pm, pv);
   return it;
 }
 
@@ -636,8 +642,8 @@ static void Load_Init() {
   Global.Add("contactKernelMultiply", "(", new OneOperator4_<long, Array, Array, Array, Array>(multiply));
   Global.Add("contactKernelNewton", "(", new OneOperator4_<long, Array, Array, Array, Array>(newton));
   Global.Add("contactKernelFixedPoint", "(", new OneOperator4_<long, Array, Array, Array, Array>(fixedPoint));
-  Global.Add("contactKernelNewtonStep", "(", new OneOperator5_<long, Array, Array, Array, Array, Array>(wholeStep<newton>));
-  Global.Add("contactKernelFixedPointStep", "(", new OneOperator5_<long, Array, Array, Array, Array, Array>(wholeStep<fixedPoint>));
+  Global.Add("contactKernelNewtonStep", "(", new OneOperator5_<long, Array, Array, Array, Array, Array>(wholeStep<newtonStep, newtonStepName>));
+  Global.Add("contactKernelFixedPointStep", "(", new OneOperator5_<long, Array, Array, Array, Array, Array>(wholeStep<fixedPointStep, fixedPointStepName>));
   Global.Add("contactLawTermsPerRelation", "(", new OneOperator0<long>(termsPerRelation));
   Global.Add("contactLawRelations", "(", new OneOperator6_<long, Array, Array, Array, Array, Integers, Integers>(lawRelations));
   Global.Add("contactNewtonLog", "(", new OneOperator4_<long, long, double, long, double>(newtonLog));

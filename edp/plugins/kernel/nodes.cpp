@@ -1,6 +1,7 @@
 // nodes.cpp: the contact nodes of Gamma3 and the law's data (contactlaw.hpp): the parameters
 // by name, the damping family, the nodes with their weights, bounds and slots (checkLaw runs
 // here, when a run starts), the observation v -> (v_nu, v_tau) of every node, its frames (3D).
+#include <algorithm>
 #include <cfloat>
 #include <cstdio>
 #include <utility>
@@ -9,7 +10,8 @@
 namespace contactkernel {
 using namespace contactlaw;
 
-void setParameter(Kernel &k, const std::string &name, double value) {
+void setParameter(Kernel &k, const std::string &name, double given) {
+  const double value = given + 0.;             // -0 is 0
   Parameters &P = k.law.P;
   SolverSettings &settings = k.settings;
   bool law = true;                             // a law parameter: the slots must be set again
@@ -37,7 +39,9 @@ void setDampingFamily(Kernel &k, int family, const std::vector<double> &numbers)
     kernelError("contactKernelDamping: no damping family " + std::to_string(family) + " in edp/plugins/contactlaw.hpp");
   const std::string why = checkDampingNumbers(family, numbers);
   if (!why.empty()) kernelError(std::string("contactKernelDamping: damping ") + dampingFamilies[family].name + ": " + why);
-  setDamping(k.law.P, family, numbers);
+  std::vector<double> plain = numbers;
+  for (double &x : plain) x += 0.;             // -0 is 0
+  setDamping(k.law.P, family, plain);
   k.nodes.ready = false;
 }
 
@@ -55,6 +59,7 @@ int setNodes(Kernel &k, int nn, const double *x, const double *w, const double *
   ContactNodes &nodes = k.nodes;
   Slots &law = k.law;
   nodes = ContactNodes();
+  k.factor.release();          // S's factor and the Delassus matrix belonged to the old nodes' slots
   nodes.x.assign(x, x + nn); nodes.weight.assign(w, w + nn); nodes.bound.assign(g, g + nn);
   nodes.normalSlot.assign(ns, ns + nn); nodes.tangentSlot.assign(ts, ts + nn); nodes.tangentSlot2.assign(ts2, ts2 + nn);
   nodes.slotWeight.assign(slots, 0.);
@@ -93,8 +98,12 @@ void setNodeObservation(Kernel &k, const SparseTriplets &O) {
   std::vector<std::vector<std::pair<int, double>>> rows(O.rows);
   for (size_t e = 0; e < O.count; e++) rows[O.row[e]].push_back({O.column[e], O.value[e]});
   nodes.observeStart.assign(1, 0); nodes.observeColumn.clear(); nodes.observeValue.clear();
+  nodes.observeWidth = 0;
   for (auto &row : rows) {
-    for (auto &entry : row) { nodes.observeColumn.push_back(entry.first); nodes.observeValue.push_back(entry.second); }
+    for (auto &entry : row) {
+      nodes.observeColumn.push_back(entry.first); nodes.observeValue.push_back(entry.second);
+      nodes.observeWidth = std::max(nodes.observeWidth, entry.first + 1);
+    }
     nodes.observeStart.push_back(nodes.observeColumn.size());
   }
 }
@@ -115,6 +124,9 @@ void nodeVelocities(const Kernel &k, const double *v, const std::vector<double> 
   const int nn = nodes.count(), rows = nodes.rowsPerNode;
   ov.assign(rows * nn, 0.);
   if (nodes.observeStart.size() == (size_t)(rows * nn + 1)) {
+    if (nodes.observeWidth > k.factor.n)
+      kernelError("contactkernel: the observation rows (contactKernelNodeVelocity) have " + std::to_string(nodes.observeWidth) +
+                  " columns, the velocity " + std::to_string(k.factor.n) + " unknowns");
     for (int r = 0; r < rows * nn; r++)
       for (int e = nodes.observeStart[r]; e < nodes.observeStart[r + 1]; e++) ov[r] += nodes.observeValue[e] * v[nodes.observeColumn[e]];
     return;

@@ -48,6 +48,7 @@ struct ContactNodes {
   std::vector<double> x, weight, bound;                   // per node: x, w, g
   std::vector<int> observeStart, observeColumn;          // v -> v_nu, v_tau per node (CSR)
   std::vector<double> observeValue;
+  int observeWidth = 0;                                  // the observation's columns: its largest + 1
   std::vector<int> normalSlot, tangentSlot, tangentSlot2;   // per node, -1: none (tangentSlot2: 3D)
   int rowsPerNode = 2;                         // of the observation: v_nu, v_tau (and v_tau2 in 3D)
   std::vector<double> frame;                   // 3D: per node n, t1, t2 (9 values), and Gamma3's mean

@@ -54,8 +54,9 @@ bool hasControlCharacter(const std::string &text) {
 }
 
 // A message echoes values of the user's, which may hold anything: bytes that are not UTF-8 and
-// control characters (but line ends) are shown as \xHH, so that a terminal shows them and does
-// not act on them; a word (a value, a path) longer than longWord bytes is cut in its middle,
+// control characters (but line ends) are shown as \xHH, the C1 controls (U+0080 to U+009F), the
+// line and paragraph separators U+2028, U+2029 and the byte-order mark U+FEFF as \uHHHH, so
+// that a terminal shows them and does not act on them, and no reader splits the line there; a word (a value, a path) longer than longWord bytes is cut in its middle,
 // with its length, and a message longer than longMessage bytes too: a megabyte value is not
 // echoed whole.
 const size_t longWord = 160, longMessage = 1200;
@@ -77,6 +78,12 @@ std::string shown(const std::string &text) {
     if (n == 0 || c < 0x20 || c == 0x7F) {
       char hex[8]; std::snprintf(hex, sizeof hex, "\\x%02X", (unsigned)c); word += hex; i++; continue;
     }
+    const unsigned char next = n > 1 ? text[i + 1] : 0, third = n > 2 ? text[i + 2] : 0;
+    unsigned code = 0;
+    if (n == 2 && c == 0xC2 && next <= 0x9F) code = next;                                   // C1 controls, U+0085
+    else if (n == 3 && c == 0xE2 && next == 0x80 && (third == 0xA8 || third == 0xA9)) code = 0x2000 + third - 0x80;
+    else if (n == 3 && c == 0xEF && next == 0xBB && third == 0xBF) code = 0xFEFF;
+    if (code) { char u[12]; std::snprintf(u, sizeof u, "\\u%04X", code); word += u; i += n; continue; }
     word += text.substr(i, n); i += n;
   }
   flush();

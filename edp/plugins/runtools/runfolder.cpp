@@ -192,7 +192,17 @@ void syncFolder(const std::string &path) {
 }  // namespace
 
 // ---------------------------------------------------------------- the FreeFEM functions
-// edp/figures.txt: one name a line, '#' starts a comment line (plots/ reads the same file)
+// edp/figures.txt: one name a line, '#' starts a comment line, empty lines are skipped; a name
+// is [A-Za-z0-9_][A-Za-z0-9_.-]*, not figures.list; at least one. plots/ reads the same file
+// with the same rules (edp/runfiles.py, figure_names).
+bool figureName(const std::string &name) {
+  auto allowed = [](char c, bool first) {
+    return (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9') || c == '_' || (!first && (c == '.' || c == '-'));
+  };
+  if (name.empty() || name == figuresList) return false;
+  for (size_t i = 0; i < name.size(); i++) if (!allowed(name[i], i == 0)) return false;
+  return true;
+}
 long runFigureNames(std::string *const &path) {
   struct stat status;
   std::ifstream f(*path);
@@ -202,13 +212,13 @@ long runFigureNames(std::string *const &path) {
   std::string line;
   for (long number = 1; std::getline(f, line); number++) {
     if (line.empty() || line[0] == '#') continue;
-    if (!plainName(line) || line == figuresList || line.find_first_of(" \t") != std::string::npos || hasControlCharacter(line) ||
-        !validUtf8(line))
+    if (!figureName(line))
       fail(3, *path + ":" + std::to_string(number) + ": '" + line + "' is not the file name of a figure (one name a line, "
-              + "without blanks, '/' or control characters, not figures.list; '#' starts a comment line)");
+              + "of letters, digits, '_', '.' and '-', not starting with '.' or '-', not figures.list; '#' starts a comment line)");
     figureNames.insert(line);
   }
   if (f.bad()) fail(3, "cannot read " + *path + ": " + errorText());
+  if (figureNames.empty()) fail(3, *path + " names no figure");
   return 0;
 }
 

@@ -17,18 +17,20 @@ here="$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)"
 
 # Debian's python3-matplotlib is installed for /usr/bin/python3 only: use it everywhere.
 PYTHON=/usr/bin/python3
-PACKAGES=(freefem++ libfreefem++ gmsh numdiff python3 python3-numpy python3-matplotlib python3-vtk9 libopenblas0-pthread
+PACKAGES=(freefem++ libfreefem++ gmsh numdiff python3 python3-numpy python3-matplotlib libopenblas0-pthread
           g++ libfreefem++-dev libsuitesparse-dev liblapack-dev libblas-dev)
 BENCH_PACKAGES=(time)                              # only the benchmark needs them (/usr/bin/time: memory)
+TEST_PACKAGES=(python3-vtk9)                       # only the tests need them (they read -vtk output back)
 
-missing_dependencies() { # missing_dependencies [solve|bench]: "solve" skips what only tests and plots need
+missing_dependencies() { # missing_dependencies [solve|bench|test]: "solve" skips what only tests and plots need
   command -v FreeFem++-nw >/dev/null 2>&1 || return 0
   [ -f /usr/lib/freefem++/gmsh.so ] && [ -f /usr/lib/freefem++/lapack.so ] || return 0
   command -v gmsh >/dev/null 2>&1 || return 0
   kernel_buildable || return 0
   [ "${1:-}" = solve ] && return 1
   command -v numdiff >/dev/null 2>&1 || return 0
-  "$PYTHON" -c 'import numpy, matplotlib, vtk' >/dev/null 2>&1 || return 0   # vtk: the tests read -vtk output back
+  "$PYTHON" -c 'import numpy, matplotlib' >/dev/null 2>&1 || return 0
+  [ "${1:-}" != test ] || "$PYTHON" -c 'import vtk' >/dev/null 2>&1 || return 0
   [ -e /usr/lib/x86_64-linux-gnu/openblas-pthread/libblas.so.3 ] || [ ! -d /usr/lib/x86_64-linux-gnu ] || return 0
   [ "${1:-}" != bench ] || [ -x /usr/bin/time ] || return 0
   return 1
@@ -89,10 +91,11 @@ build_kernel() {
   build_plugin runtools "$(plugin_sources runtools)"
 }
 
-ensure_dependencies() { # ensure_dependencies [solve|bench]
+ensure_dependencies() { # ensure_dependencies [solve|bench|test]
   if ! missing_dependencies "${1:-}"; then build_kernel; return 0; fi
   local wanted=("${PACKAGES[@]}")
   [ "${1:-}" = bench ] && wanted+=("${BENCH_PACKAGES[@]}")
+  [ "${1:-}" = test ] && wanted+=("${TEST_PACKAGES[@]}")
   if [ "$(id -u)" = 0 ]; then
     echo "run.sh: installing ${wanted[*]}" >&2
     export DEBIAN_FRONTEND=noninteractive
@@ -209,7 +212,7 @@ case "$command" in
     ensure_dependencies; main_job ;;
   solve) refuse_freefem_arguments "$@"; ensure_dependencies solve; exec "${FREEFEM[@]}" "$here/edp/solve.edp" "$@" ;;   # a signal reaches the solve
   compare) refuse_freefem_arguments "$@"; ensure_dependencies solve; exec "${FREEFEM[@]}" "$here/edp/compare.edp" "$@" ;;
-  test) ensure_dependencies; exec bash "$here/tests/run_tests.sh" "$@" ;;
+  test) ensure_dependencies test; exec bash "$here/tests/run_tests.sh" "$@" ;;
   bench) ensure_dependencies bench; exec bash "$here/plots/bench.sh" "$@" ;;
   stability) ensure_dependencies; exec bash "$here/plots/stability.sh" "$@" ;;
   figures) ensure_dependencies

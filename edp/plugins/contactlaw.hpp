@@ -35,6 +35,8 @@ struct Parameters {
   double eps = 1;        // option -eps: penalty parameter
   bool penalty = false;  // option -problem penalty (else the original problem, v_nu <= g)
   bool literal = false;  // option -penaltyform literal (else compliant)
+  double g = 0;          // option -g: the velocity bound, where the scene gives no bound_profile
+  std::vector<double> profileX, profileG;   // the scene's bound_profile x0 g0 x1 g1 ... (empty: none)
 };
 
 // A number as the messages of this file write it.
@@ -47,7 +49,9 @@ inline std::string lawNumber(double x) { char b[32]; std::snprintf(b, sizeof b, 
 // gives 0 at r <= 0), and the check of the scene line's numbers. A family of your own: its
 // two functions, its check, and a row in dampingFamilies (docs/walkthrough.md, Exercise 1b).
 
-// damping linear C: p(r) = C r_+, the paper's (C is -cnu)
+// damping linear C: p(r) = C r_+, the paper's (C is -cnu). (The "// Linear" marks let
+// tests/suites/10-solvers.sh find these two lines: it writes Exercise 1 of docs/walkthrough.md,
+// p = C r^2, into a copy of the suite.)
 inline double linearResponse(const Parameters &P, double r) {
   return P.cnu * r;                                                      // Linear
 }
@@ -64,6 +68,12 @@ inline double powerSlope(const Parameters &P, double r) { return P.numbers[0] * 
 inline std::string powerCheck(const std::vector<double> &x) {
   if (!(x[0] >= 0)) return "C must be >= 0, got " + lawNumber(x[0]);
   return x[1] >= 1 ? "" : "ALPHA must be >= 1, got " + lawNumber(x[1]);
+}
+
+// The weighted mean (1 - s) y0 + s y1 of two values, 0 <= s <= 1, kept between them (y0 + (y1 -
+// y0) s could round outside: 1 + (1e-17 - 1) is 0): the tables and the bound profile below
+inline double keptBetween(double y0, double y1, double s) {
+  return std::min(std::max((1 - s) * y0 + s * y1, std::min(y0, y1)), std::max(y0, y1));
 }
 
 // damping table r0 p0 r1 p1 ...: p piecewise linear through the points (numbers: r0 p0 r1 p1
@@ -87,8 +97,7 @@ inline double tableResponse(const Parameters &P, double r) {
   const double *point = P.numbers.data() + 2 * k;
   const double r0 = point[0], r1 = point[2], p0 = point[1], p1 = point[3];
   if (r > r1) return p1 + tableSlope(P, r) * (r - r1);
-  const double s = (r - r0) / (r1 - r0);
-  return std::min(std::max((1 - s) * p0 + s * p1, std::min(p0, p1)), std::max(p0, p1));
+  return keptBetween(p0, p1, (r - r0) / (r1 - r0));
 }
 inline std::string tableCheck(const std::vector<double> &x) {
   const int points = (int)x.size() / 2;
@@ -135,14 +144,41 @@ inline double dampedResponseSlope(const Parameters &P, double r) {
 inline double frictionBound(const Parameters &P, double vn) { return P.mu * dampedResponse(P, vn); }
 inline double frictionBoundSlope(const Parameters &P, double vn) { return P.mu * dampedResponseSlope(P, vn); }
 
+// The velocity bound g of a contact node at abscissa x: the option -g, or the scene's
+// bound_profile, piecewise linear in x through its points (between two, keptBetween), constant
+// outside. The kernel gives every node its g from here (contactKernelNodes); the scene reader
+// checks the profile's points (x increasing, every g > 0, the largest at most 1e4 the smallest).
+inline double velocityBound(const Parameters &P, double x) {
+  const std::vector<double> &X = P.profileX, &G = P.profileG;
+  if (X.empty()) return P.g;
+  if (x <= X[0]) return G[0];
+  for (size_t k = 1; k < X.size(); k++)
+    if (x <= X[k]) return keptBetween(G[k - 1], G[k], (x - X[k - 1]) / (X[k] - X[k - 1]));
+  return G.back();
+}
+
+// The force scale of a node of bound g: p(g), or 1 where p(g) = 0 (a stress is measured
+// against it: the residual, the end-of-run checks, contact.txt's column force_scale).
+inline double forceScale(const Parameters &P, double g) {
+  const double pg = dampedResponse(P, g);
+  return pg > 0 ? pg : 1.;
+}
+
 // Statuses of a node (contact.txt): normal 0 free (v_nu <= 0), 1 damped, 2 at the bound
 // (v_nu >= g (1 - 1e-6)); tangential 0 stick (|v_tau| <= 1e-6 g), 1 slip.
 const double statusTolerance = 1e-6;
 inline int normalStatus(double vn, double g) { return vn <= 0 ? 0 : (vn >= g * (1 - statusTolerance) ? 2 : 1); }
 inline int tangentialStatus(double vt, double g) { return std::fabs(vt) <= statusTolerance * g ? 0 : 1; }
 // (in 3D, vt is the length |v_tau| of the node's tangential velocity)
-// Zones: 0 free, 1 damped-slip, 2 damped-stick, 3 bound-slip, 4 bound-stick.
+// Zones: 0 free, 1 damped-slip, 2 damped-stick, 3 bound-slip, 4 bound-stick; their names, as
+// the outputs spell them (the counts zone_NAME of contact_history.txt and summary.txt).
 inline int zone(int normal, int tangential) { return normal > 0 ? 2 * normal - tangential : 0; }
+const char *const zoneNames[] = {"free", "damped_slip", "damped_stick", "bound_slip", "bound_stick"};
+const int zoneCount = sizeof zoneNames / sizeof zoneNames[0];
+// The points of Gamma3 the paper marks (Figure 3): x_B, the smallest x of a node at the bound,
+// and x_C, the smallest x of a node in contact that sticks.
+inline bool marksB(int normal, int) { return normal == 2; }
+inline bool marksC(int normal, int tangential) { return normal > 0 && tangential == 0; }
 
 // ============ derived from the law above: pieces, resolvents, relations (no need to edit) ============
 //
@@ -245,8 +281,7 @@ struct Slots {
   // the velocity bound and the force scale p(g) of slot j (a tangential slot: its node's)
   void setBound(int j, double bound) {
     g[j] = bound;
-    const double pg = dampedResponse(P, bound);
-    forceScale[j] = pg > 0 ? pg : 1.;
+    forceScale[j] = contactlaw::forceScale(P, bound);
     Kn[j] = normal[j] ? dampedResponseSlope(P, bound) : 0.;
   }
   // the augmentation of slot j, and the weight of its residual: stress mismatches relative
@@ -522,8 +557,8 @@ inline int checkLaw(const Parameters &P, double g, std::string &why) {
   }
   for (int normal = 0; normal <= 2; normal++)
     for (int tangential = 0; tangential <= 1; tangential++)
-      if (zone(normal, tangential) < 0 || zone(normal, tangential) > 4) {
-        why = "zone(" + text(normal) + ", " + text(tangential) + ") is not a zone 0..4";
+      if (zone(normal, tangential) < 0 || zone(normal, tangential) >= zoneCount) {
+        why = "zone(" + text(normal) + ", " + text(tangential) + ") is not a zone 0.." + text(zoneCount - 1);
         return 1;
       }
   return 0;

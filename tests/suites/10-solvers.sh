@@ -110,6 +110,8 @@ done <<'CASES'
 2|contactKernelNewton: call contactKernelDelassus after the last contactKernelFactorize
 3|contactKernelFactorize: C has 32 rows, but contactKernelNodes gave 34 slots
 4|contactKernelNodes: slot numbers must be 0 .. slots-1, each used once
+10|contactKernelSolve without a successful contactKernelFactorize
+11|contactKernelNewtonStep without a successful contactKernelFactorize
 5|contactKernelRecord: call contactKernelRecordStart
 6|contactKernelParameter: unknown parameter 'gravity'
 7|contactKernelSolve without a successful contactKernelFactorize

@@ -17,7 +17,7 @@
 //   contactKernelColumns(string table)  how many columns table has
 // The law's data (contactlaw.hpp)
 //   contactKernelParameter(string name, real value)  a parameter, by its option name: cnu, mu,
-//       eps, problem (0 original, 1 penalty), penaltyform (0 compliant, 1 literal), tol, maxit,
+//       g, eps, problem (0 original, 1 penalty), penaltyform (0 compliant, 1 literal), tol, maxit,
 //       safeguard (0/1), r, dt, ordering (of S's factorization: 0 CAMD, 1 METIS on the
 //       interior), verbose (0/1)
 //   contactKernelDampingFamily(string name)  the damping family of that name (dampingFamilies
@@ -29,9 +29,11 @@
 //       "damping NAME NUMBERS"; "with C", the names of the families with C ("linear or power")
 //   contactKernelDamping(int family, real[int] numbers)  the law's family and numbers (as the
 //       scene line gives them; C itself comes with contactKernelParameter("cnu", ...))
-//   contactKernelNodes(real[int] x, real[int] w, real[int] g, int[int] normalSlot,
-//       int[int] tangentSlot, int[int] tangentSlot2)  the contact nodes: weight, velocity bound,
-//       slots (-1: none; tangentSlot2, the second tangential slot of a 3D node, makes a pair
+//   contactKernelBoundProfile(real[int] x, real[int] g)  the scene's bound_profile (x
+//       increasing; empty arrays: none, g is contactKernelParameter("g", ...) everywhere)
+//   contactKernelNodes(real[int] x, real[int] w, int[int] normalSlot, int[int] tangentSlot,
+//       int[int] tangentSlot2)  the contact nodes: abscissa (each node's velocity bound g is the
+//       law's at x, velocityBound of contactlaw.hpp), weight, slots (-1: none; tangentSlot2, the second tangential slot of a 3D node, makes a pair
 //       with tangentSlot under the disk law, or is alone where a Dirichlet condition fixes the
 //       first tangent); returns 1 if the law of contactlaw.hpp is unusable (checkLaw; then
 //       contactKernelLawProblem(string prefix) gives prefix + the reason)
@@ -39,7 +41,10 @@
 //       3D (v_nu, v_tau, v_tau2), rows 3i, 3i + 1, 3i + 2): what the nodes report
 //   contactKernelNodeFrames(real[int,int] frame, real[int] mean)  3D: each node's n, t1, t2 and
 //       Gamma3's mean frame T1, T2 (the record's tangential forces are on T1 and T2)
+//   contactKernelNodeBounds(real[int] g)  each node's velocity bound g (the law's)
 //   contactKernelDampingSlope(real[int] Kn)  Kn per slot (p'(g) on normal slots), folded into S
+//   contactKernelZones()  how many zones the law has (contactlaw.hpp, zone)
+//   contactKernelZoneName(int z)  zone z's name, as the outputs spell it (free, damped_slip, ...)
 // S and the back-substitutions (factorization.cpp, products.cpp)
 //   contactKernelFactorize(matrix S, matrix C)  returns 0, or 1 (S not positive definite),
 //       2 (CHOLMOD failed)
@@ -207,15 +212,29 @@ long damping(const long &family, KN<double> *const &numbers) {
   return 0;
 }
 
-long nodes(KN<double> *const &px, KN<double> *const &pw, KN<double> *const &pg, KN<long> *const &pns, KN<long> *const &pts,
-           KN<long> *const &pts2) {
+long boundProfile(KN<double> *const &px, KN<double> *const &pg) {
+  setBoundProfile(kernel(), copyOf(*px), copyOf(*pg));
+  return 0;
+}
+
+long nodes(KN<double> *const &px, KN<double> *const &pw, KN<long> *const &pns, KN<long> *const &pts, KN<long> *const &pts2) {
   const int nn = px->N();
-  if (pw->N() != nn || pg->N() != nn || pns->N() != nn || pts->N() != nn || pts2->N() != nn)
+  if (pw->N() != nn || pns->N() != nn || pts->N() != nn || pts2->N() != nn)
     ExecError("contactKernelNodes: wrong argument sizes");
-  std::vector<double> x = copyOf(*px), w = copyOf(*pw), g = copyOf(*pg);
+  std::vector<double> x = copyOf(*px), w = copyOf(*pw);
   std::vector<long> ns(nn), ts(nn), ts2(nn);
   for (int i = 0; i < nn; i++) { ns[i] = (*pns)[i]; ts[i] = (*pts)[i]; ts2[i] = (*pts2)[i]; }
-  return setNodes(kernel(), nn, x.data(), w.data(), g.data(), ns.data(), ts.data(), ts2.data());
+  return setNodes(kernel(), nn, x.data(), w.data(), ns.data(), ts.data(), ts2.data());
+}
+long nodeBounds(KN<double> *const &pg) {
+  requireNodes(kernel(), "contactKernelNodeBounds");
+  copyInto(*pg, kernel().nodes.g.data(), kernel().nodes.count());
+  return 0;
+}
+long zones() { return contactlaw::zoneCount; }
+string *zoneName(Stack stack, const long &z) {
+  if (z < 0 || z >= contactlaw::zoneCount) ExecError("contactKernelZoneName: no zone " + std::to_string(z));
+  return newString(stack, contactlaw::zoneNames[z]);
 }
 // why the law of the last contactKernelNodes that returned 1 cannot be used (the script names
 // the scene's lines it came from)
@@ -626,7 +645,11 @@ static void Load_Init() {
   Global.Add("contactKernelDampingCheck", "(", new OneOperator2s_<string *, long, Array>(dampingCheck));
   Global.Add("contactKernelDampingText", "(", new OneOperator1s_<string *, string *>(dampingText));
   Global.Add("contactKernelDamping", "(", new OneOperator2_<long, long, Array>(damping));
-  Global.Add("contactKernelNodes", "(", new OneOperator6_<long, Array, Array, Array, Integers, Integers, Integers>(nodes));
+  Global.Add("contactKernelBoundProfile", "(", new OneOperator2_<long, Array, Array>(boundProfile));
+  Global.Add("contactKernelNodes", "(", new OneOperator5_<long, Array, Array, Integers, Integers, Integers>(nodes));
+  Global.Add("contactKernelNodeBounds", "(", new OneOperator1_<long, Array>(nodeBounds));
+  Global.Add("contactKernelZones", "(", new OneOperator0<long>(zones));
+  Global.Add("contactKernelZoneName", "(", new OneOperator1s_<string *, long>(zoneName));
   Global.Add("contactKernelLawProblem", "(", new OneOperator1s_<string *, string *>(lawProblem));
   Global.Add("contactKernelNodeVelocity", "(", new OneOperator1_<long, Matrix>(nodeVelocity));
   Global.Add("contactKernelNodeFrames", "(", new OneOperator2_<long, Table, Array>(nodeFrames));

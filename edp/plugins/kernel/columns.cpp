@@ -1,7 +1,18 @@
 // columns.cpp: the tables of columns.hpp, looked up by name (contactKernelColumn).
 #include "columns.hpp"
 
+#include <vector>
+
 namespace contactkernel {
+const char *zoneColumn(int zone) {
+  static const std::vector<std::string> names = [] {
+    std::vector<std::string> list;
+    for (int z = 0; z < contactlaw::zoneCount; z++) list.push_back(std::string("zone_") + contactlaw::zoneNames[z]);
+    return list;
+  }();
+  return names[zone].c_str();
+}
+
 namespace {
 #define CONTACTKERNEL_COLUMN(id, name, integer) {name, integer},
 const Column nodal[] = {CONTACTKERNEL_NODAL_COLUMNS(CONTACTKERNEL_COLUMN)};

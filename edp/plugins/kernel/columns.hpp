@@ -13,6 +13,7 @@
 #ifndef CONTACTKERNEL_COLUMNS_HPP
 #define CONTACTKERNEL_COLUMNS_HPP
 #include <string>
+#include "contactlaw.hpp"
 
 namespace contactkernel {
 
@@ -32,9 +33,9 @@ namespace contactkernel {
   X(RecordContactDissipation, "contact_dissipation", false) X(RecordExternalWork, "external_work", false) \
   X(RecordEnergyResidual, "energy_residual", false) X(RecordKineticJump, "kinetic_jump", false)        \
   X(RecordElasticJump, "elastic_jump", false) X(RecordNormalForce, "normal_force", false)              \
-  X(RecordTangentialForce, "tangential_force", false) X(RecordZoneFree, "zone_free", true)             \
-  X(RecordZoneDampedSlip, "zone_damped_slip", true) X(RecordZoneDampedStick, "zone_damped_stick", true) \
-  X(RecordZoneBoundSlip, "zone_bound_slip", true) X(RecordZoneBoundStick, "zone_bound_stick", true)    \
+  X(RecordTangentialForce, "tangential_force", false)                                                  \
+  X(RecordZone0, zoneColumn(0), true) X(RecordZone1, zoneColumn(1), true) X(RecordZone2, zoneColumn(2), true) \
+  X(RecordZone3, zoneColumn(3), true) X(RecordZone4, zoneColumn(4), true)                              \
   X(RecordXB, "x_B", false) X(RecordXC, "x_C", false) X(RecordTangentialForce2, "tangential_force2", false)
 
 #define CONTACTKERNEL_HISTORY_COLUMNS(X)                                                               \
@@ -55,6 +56,9 @@ namespace contactkernel {
   X(CounterCuts, "newton_shortened_steps", true) X(CounterHalvings, "augmentation_halvings", true)     \
   X(CounterRetries, "newton_retries", true)
 
+// the record's zone counts: zone_NAME, NAME the law's (contactlaw.hpp, zoneNames), in zone order
+const char *zoneColumn(int zone);
+
 #define CONTACTKERNEL_ENUM(id, name, integer) id,
 enum NodalColumn { CONTACTKERNEL_NODAL_COLUMNS(CONTACTKERNEL_ENUM) nodalColumnCount };
 enum RecordColumn { CONTACTKERNEL_RECORD_COLUMNS(CONTACTKERNEL_ENUM) recordColumnCount };
@@ -65,6 +69,7 @@ enum SolverInfoColumn { CONTACTKERNEL_SOLVER_INFO_COLUMNS(CONTACTKERNEL_ENUM) so
 enum SafeguardInfoColumn { CONTACTKERNEL_SAFEGUARD_INFO_COLUMNS(CONTACTKERNEL_ENUM) safeguardInfoColumnCount };
 enum CounterColumn { CONTACTKERNEL_COUNTER_COLUMNS(CONTACTKERNEL_ENUM) counterColumnCount };
 #undef CONTACTKERNEL_ENUM
+static_assert(RecordZone4 - RecordZone0 + 1 == contactlaw::zoneCount, "one record column per zone of contactlaw.hpp");
 
 struct Column { const char *name; bool integer; };
 // the columns of a table (nullptr if there is no such table), and how many

@@ -16,9 +16,12 @@ void deleteKernel(long id);             // not the current one
 // ---- nodes.cpp: the contact nodes and the law's data
 void setParameter(Kernel &k, const std::string &name, double value);
 void setDampingFamily(Kernel &k, int family, const std::vector<double> &numbers);
-// the nodes: returns 1 if the law is unusable (then k.nodes.lawProblem says why)
-int setNodes(Kernel &k, int count, const double *x, const double *w, const double *g, const long *normalSlot,
-             const long *tangentSlot, const long *tangentSlot2);
+// the bound profile (x increasing; empty: the parameter g everywhere)
+void setBoundProfile(Kernel &k, const std::vector<double> &x, const std::vector<double> &g);
+// the nodes, each with its g from the law (velocityBound): returns 1 if the law is unusable
+// (then k.nodes.lawProblem says why)
+int setNodes(Kernel &k, int count, const double *x, const double *w, const long *normalSlot, const long *tangentSlot,
+             const long *tangentSlot2);
 void requireNodes(const Kernel &k, const char *who);
 void setNodeObservation(Kernel &k, const SparseTriplets &O);
 void setNodeFrames(Kernel &k, const std::vector<double> &frames, const double mean[6]);

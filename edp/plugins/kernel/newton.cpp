@@ -22,11 +22,6 @@ namespace contactkernel {
 using contactlaw::Slip;
 
 namespace {
-// The LU factors of N0, the base Newton matrix (newton.N0: the relations when it was factorized, a
-// 3D disk's slip rows as stick rows), and its inverse (newton.N0inv) computed from them: a solve
-// uses the factors (backward stable: the inverse alone loses digits on the badly conditioned
-// matrices of a literal penalty), a correction reads the columns N0^-1 E_R from the inverse
-// instead of solving for them (newtonPrepare)
 const int relationTerms = contactlaw::Slots::termsPerRelation;   // the terms of a relation
 // row j of the Newton matrix of the relations (a, aSlot, d, dSlot), its terms from first on,
 // times sign, added into out[i * ld], i < nc (term 0 always; the others where nonzero)
@@ -51,6 +46,11 @@ bool hasVelocityTerm(const contactlaw::Slots &law, int j) {
 bool diskSlip(const contactlaw::Slots &law, int j) { return law.pair[j] >= 0 && law.piece[j] == Slip; }
 // ... that reads a velocity: the base writes it as a stick row (newtonFactorBase)
 bool substitutedInBase(const contactlaw::Slots &law, int j) { return diskSlip(law, j) && hasVelocityTerm(law, j); }
+// The LU factors of N0, the base Newton matrix (newton.N0: the relations when it was factorized, a
+// 3D disk's slip rows as stick rows, when substitute), and its inverse (newton.N0inv, computed
+// from them by newtonInverse): a solve uses the factors (backward stable: the inverse alone
+// loses digits on the badly conditioned matrices of a literal penalty), a correction reads the
+// columns N0^-1 E_R from the inverse instead of solving for them (newtonPrepare)
 bool newtonFactorBase(Kernel &k, bool substitute = true) {
   NewtonState &newton = k.newton;
   const Factorization &factor = k.factor;
@@ -147,15 +147,15 @@ void computeH0Rows(Kernel &k, const std::vector<int> &slots) {
   if (count == 0) return;
   // Dw[slots, :], count x nc, column-major, from Dw's columns: Dw = D W with D symmetric, so
   // Dw[s, i] = Dw[i, s] w_i / w_s
-  std::vector<double> W((size_t)count * nc);
+  std::vector<double> DwRows((size_t)count * nc);
   for (int i = 0; i < count; i++) {
     const double *column = factor.Dw.data() + (size_t)slots[i] * nc;
     const double ws = nodes.slotWeight[slots[i]];
-    for (int col = 0; col < nc; col++) W[i + (size_t)col * count] = column[col] * nodes.slotWeight[col] / ws;
+    for (int col = 0; col < nc; col++) DwRows[i + (size_t)col * count] = column[col] * nodes.slotWeight[col] / ws;
   }
   newton.H.resize((size_t)(newton.hCount + count) * nc);
-  const double one = 1., zero = 0.;                    // the rows one after the other: (W N0^-1)' = N0^-T W'
-  dgemm_("T", "T", &nc, &count, &nc, &one, newton.N0inv.data(), &nc, W.data(), &count, &zero, newton.H.data() + (size_t)newton.hCount * nc, &nc);
+  const double one = 1., zero = 0.;                    // the rows one after the other: (DwRows N0^-1)' = N0^-T DwRows'
+  dgemm_("T", "T", &nc, &count, &nc, &one, newton.N0inv.data(), &nc, DwRows.data(), &count, &zero, newton.H.data() + (size_t)newton.hCount * nc, &nc);
   for (int i = 0; i < count; i++) newton.hOf[slots[i]] = newton.hCount + i;
   newton.hCount += count;
 }
@@ -212,26 +212,26 @@ bool newtonPrepare(Kernel &k) {
   // each changed row as terms on rows of N0^-1 (onInv), on e'_b (onUnit) and on computed rows of H0 (onH)
   std::vector<int> missing;
   std::vector<char> listed(nc, 0);
-  for (int k = 0; k < r; k++)
+  for (int q = 0; q < r; q++)
     for (int t = 0; t < relationTerms; t++) {
-      const int s = law.aSlot[relationTerms * R[k] + t];
-      if (law.a[relationTerms * R[k] + t] != 0 && newton.hOf[s] < 0 && newton.derive[s] < 0 && !listed[s]) { missing.push_back(s); listed[s] = 1; }
+      const int s = law.aSlot[relationTerms * R[q] + t];
+      if (law.a[relationTerms * R[q] + t] != 0 && newton.hOf[s] < 0 && newton.derive[s] < 0 && !listed[s]) { missing.push_back(s); listed[s] = 1; }
     }
   computeH0Rows(k, missing);
   newton.onInv.assign(r, {}); newton.onUnit.assign(r, {}); newton.onH.assign(r, {});
-  for (int k = 0; k < r; k++) {
-    const int j = R[k];
-    for (int t = 0; t < relationTerms; t++) if (t == 0 || law.d[relationTerms * j + t] != 0) newton.onInv[k].push_back({law.dSlot[relationTerms * j + t], law.d[relationTerms * j + t]});
+  for (int q = 0; q < r; q++) {
+    const int j = R[q];
+    for (int t = 0; t < relationTerms; t++) if (t == 0 || law.d[relationTerms * j + t] != 0) newton.onInv[q].push_back({law.dSlot[relationTerms * j + t], law.d[relationTerms * j + t]});
     for (int t = 0; t < relationTerms; t++) {
       const double a = law.a[relationTerms * j + t];
       const int s = law.aSlot[relationTerms * j + t];
       if (a == 0) continue;
-      if (newton.hOf[s] >= 0) { newton.onH[k].push_back({newton.hOf[s], -a}); continue; }
+      if (newton.hOf[s] >= 0) { newton.onH[q].push_back({newton.hOf[s], -a}); continue; }
       const int b = newton.derive[s];
       const double a0 = newton.deriveA0[s];
       for (int u = 0; u < relationTerms; u++)
-        if (newton.baseD[relationTerms * b + u] != 0) newton.onInv[k].push_back({newton.baseT[relationTerms * b + u], -a * newton.baseD[relationTerms * b + u] / a0});
-      newton.onUnit[k].push_back({b, a / a0});
+        if (newton.baseD[relationTerms * b + u] != 0) newton.onInv[q].push_back({newton.baseT[relationTerms * b + u], -a * newton.baseD[relationTerms * b + u] / a0});
+      newton.onUnit[q].push_back({b, a / a0});
     }
   }
   // K = (N N0^-1)[R, R]: the terms on N0^-1 column by column, then those on H0 row by row
@@ -241,17 +241,17 @@ bool newtonPrepare(Kernel &k) {
   for (int l = 0; l < r; l++) {
     const double *column = newton.N0inv.data() + (size_t)R[l] * nc;
     double *out = newton.K.data() + (size_t)l * r;
-    for (int k = 0; k < r; k++) {
+    for (int q = 0; q < r; q++) {
       double v = 0;
-      for (const Term &e : newton.onInv[k]) v += e.coef * column[e.index];
-      out[k] = v;
+      for (const Term &e : newton.onInv[q]) v += e.coef * column[e.index];
+      out[q] = v;
     }
   }
-  for (int k = 0; k < r; k++) {
-    for (const Term &e : newton.onUnit[k]) if (position[e.index] >= 0) newton.K[k + (size_t)position[e.index] * r] += e.coef;
-    for (const Term &e : newton.onH[k]) {
+  for (int q = 0; q < r; q++) {
+    for (const Term &e : newton.onUnit[q]) if (position[e.index] >= 0) newton.K[q + (size_t)position[e.index] * r] += e.coef;
+    for (const Term &e : newton.onH[q]) {
       const double *row = newton.H.data() + (size_t)e.index * nc;
-      for (int l = 0; l < r; l++) newton.K[k + (size_t)l * r] += e.coef * row[R[l]];
+      for (int l = 0; l < r; l++) newton.K[q + (size_t)l * r] += e.coef * row[R[l]];
     }
   }
   newton.Kpivots.resize(r);
@@ -302,12 +302,12 @@ void correctedSolve(Kernel &k, const double *b, double *x, bool remember = false
     const int inc = 1;
     dgemv_("T", &nc, &newton.hCount, &plus, newton.H.data(), &nc, b, &inc, &zero, hb.data(), &inc);
   }
-  for (int k = 0; k < r; k++) {
-    double v = -b[newton.changed[k]];
-    for (const Term &e : newton.onInv[k]) v += e.coef * x[e.index];
-    for (const Term &e : newton.onUnit[k]) v += e.coef * b[e.index];
-    for (const Term &e : newton.onH[k]) v += e.coef * hb[e.index];
-    t[k] = v;
+  for (int q = 0; q < r; q++) {
+    double v = -b[newton.changed[q]];
+    for (const Term &e : newton.onInv[q]) v += e.coef * x[e.index];
+    for (const Term &e : newton.onUnit[q]) v += e.coef * b[e.index];
+    for (const Term &e : newton.onH[q]) v += e.coef * hb[e.index];
+    t[q] = v;
   }
   dgetrs_("N", &r, &one, newton.K.data(), &r, newton.Kpivots.data(), t.data(), &r, &info);
   for (int l = 0; l < r; l++) {

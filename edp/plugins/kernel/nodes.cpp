@@ -20,6 +20,7 @@ void setParameter(Kernel &k, const std::string &name, double given) {
   else if (name == "eps") P.eps = value;
   else if (name == "problem") P.penalty = value != 0;
   else if (name == "penaltyform") P.literal = value != 0;
+  else if (name == "g") P.g = value;
   else {
     law = false;
     if (name == "tol") { settings.tol = value; k.law.roundoff = 10 * DBL_EPSILON / value; }
@@ -45,8 +46,16 @@ void setDampingFamily(Kernel &k, int family, const std::vector<double> &numbers)
   k.nodes.ready = false;
 }
 
-int setNodes(Kernel &k, int nn, const double *x, const double *w, const double *g, const long *ns, const long *ts,
-             const long *ts2) {
+void setBoundProfile(Kernel &k, const std::vector<double> &x, const std::vector<double> &g) {
+  if (x.size() != g.size()) kernelError("contactKernelBoundProfile: as many g as x expected");
+  for (size_t j = 1; j < x.size(); j++)
+    if (!(x[j] > x[j - 1])) kernelError("contactKernelBoundProfile: the x must increase");
+  k.law.P.profileX = x; k.law.P.profileG = g;
+  k.nodes.ready = false;
+}
+
+// every node's g from the law (velocityBound), at its x
+int setNodes(Kernel &k, int nn, const double *x, const double *w, const long *ns, const long *ts, const long *ts2) {
   int slots = 0;
   for (int i = 0; i < nn; i++) slots += (ns[i] >= 0) + (ts[i] >= 0) + (ts2[i] >= 0);
   std::vector<int> owner(slots, -1);
@@ -60,7 +69,9 @@ int setNodes(Kernel &k, int nn, const double *x, const double *w, const double *
   Slots &law = k.law;
   nodes = ContactNodes();
   k.factor.release();          // S's factor and the Delassus matrix belonged to the old nodes' slots
-  nodes.x.assign(x, x + nn); nodes.weight.assign(w, w + nn); nodes.bound.assign(g, g + nn);
+  std::vector<double> g(nn);
+  for (int i = 0; i < nn; i++) g[i] = velocityBound(law.P, x[i]);
+  nodes.x.assign(x, x + nn); nodes.weight.assign(w, w + nn); nodes.g = g;
   nodes.normalSlot.assign(ns, ns + nn); nodes.tangentSlot.assign(ts, ts + nn); nodes.tangentSlot2.assign(ts2, ts2 + nn);
   nodes.slotWeight.assign(slots, 0.);
   law.resize(slots);

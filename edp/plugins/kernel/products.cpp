@@ -108,7 +108,7 @@ void mergeProductRows(Kernel &kernel, const SparseRows mats[3], int n) {
       for (int k = 0; k < 3; k++) if (e[k] < mats[k].start[i + 1]) next = std::min(next, mats[k].column[e[k]]);
       if (next == INT_MAX) break;
       double v3[3] = {0., 0., 0.};
-      for (int k = 0; k < 3; k++)                      // a repeated column adds up, as before
+      for (int k = 0; k < 3; k++)                      // a column repeated in a row adds up, as in a sum of the matrices
         while (e[k] < mats[k].start[i + 1] && mats[k].column[e[k]] == next) v3[k] += mats[k].value[e[k]++];
       products.column.push_back(next);
       products.values.insert(products.values.end(), v3, v3 + 3);

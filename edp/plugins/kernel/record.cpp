@@ -14,7 +14,7 @@ namespace {
 // The values of node i from its velocities ov (nodeVelocities) and the contact stresses Lam,
 // with the statuses of contactlaw.hpp (+ 0. turns -0 into 0).
 struct NodeValues {
-  double vn, vt, vt2, pn, ln, lt, lt2, bound;
+  double vn, vt, vt2, pn, ln, lt, lt2, frictionBound;
   int normal, tangential;
 };
 NodeValues nodeValues(const Kernel &k, int i, const double *ov, const double *Lam) {
@@ -29,9 +29,9 @@ NodeValues nodeValues(const Kernel &k, int i, const double *ov, const double *La
   s.lt = st >= 0 ? Lam[st] : 0.;
   s.lt2 = st2 >= 0 ? Lam[st2] : 0.;
   s.ln = (sn >= 0 ? s.pn - dampedResponse(P, s.vn) : 0.) + 0.;
-  s.bound = frictionBound(P, s.vn);
-  s.normal = normalStatus(s.vn, nodes.bound[i]);
-  s.tangential = tangentialStatus(rows == 3 ? std::hypot(s.vt, s.vt2) : s.vt, nodes.bound[i]);
+  s.frictionBound = frictionBound(P, s.vn);
+  s.normal = normalStatus(s.vn, nodes.g[i]);
+  s.tangential = tangentialStatus(rows == 3 ? std::hypot(s.vt, s.vt2) : s.vt, nodes.g[i]);
   return s;
 }
 }  // namespace
@@ -48,14 +48,13 @@ void nodalTable(Kernel &k, const double *v, const double *Lam, std::vector<doubl
   table.assign((size_t)nn * nodalColumnCount, 0.);
   for (int i = 0; i < nn; i++) {
     const NodeValues s = nodeValues(k, i, ov.data(), Lam);
-    // the force scale p(g) of the node (Slots::setBound), also where it has no slot at all
-    const double pg = dampedResponse(P, nodes.bound[i]), scale = pg > 0 ? pg : 1.;
     double *row = table.data() + (size_t)i * nodalColumnCount;
     row[NodalVNu] = s.vn; row[NodalVTau] = s.vt; row[NodalPNu] = s.pn; row[NodalLambdaNu] = s.ln; row[NodalLambdaTau] = s.lt;
-    row[NodalNormalStatus] = s.normal; row[NodalTangentialStatus] = s.tangential; row[NodalFrictionBound] = s.bound;
-    row[NodalForceScale] = scale; row[NodalZone] = zone(s.normal, s.tangential); row[NodalVTau2] = s.vt2;
-    row[NodalLambdaTau2] = s.lt2; row[NodalDampedResponse] = dampedResponse(P, s.vn); row[NodalG] = nodes.bound[i];
-    row[NodalDampingSlope] = dampedResponseSlope(P, nodes.bound[i]);   // p'(g): the slope Kn the solvers fold into S
+    row[NodalNormalStatus] = s.normal; row[NodalTangentialStatus] = s.tangential; row[NodalFrictionBound] = s.frictionBound;
+    row[NodalForceScale] = forceScale(P, nodes.g[i]);   // (also where the node has no slot)
+    row[NodalZone] = zone(s.normal, s.tangential); row[NodalVTau2] = s.vt2;
+    row[NodalLambdaTau2] = s.lt2; row[NodalDampedResponse] = dampedResponse(P, s.vn); row[NodalG] = nodes.g[i];
+    row[NodalDampingSlope] = dampedResponseSlope(P, nodes.g[i]);   // p'(g): the slope Kn the solvers fold into S
   }
 }
 
@@ -166,13 +165,13 @@ bool recordStep(Kernel &kernel, const double *pv0, const double *pu0, const doub
   const ProductMatrices &products = kernel.products;
   const ContactNodes &nodes = kernel.nodes;
   EnergyRecord &record = kernel.record;
-  const double k = kernel.settings.dt;
+  const double dt = kernel.settings.dt;
   // three products in one pass; M (v_n - v_{n-1}) = M v_n - M v_{n-1} and B u_n = B u_{n-1} + k B v_n
   // (u_n = u_{n-1} + k v_n), so no product with v_{n-1} or u
   double *vOld = record.vOld.data();
   double vMv = 0, vAv = 0, vBv = 0, dvMdv = 0, uBu = 0, fv = 0;
   products.forEachRow(pv0, [&](int i, double m, double a, double b) {   // each row once its products are known
-    const double vi = pv0[i], bu = pBu0[i] + k * b;
+    const double vi = pv0[i], bu = pBu0[i] + dt * b;
     vMv += vi * m; vAv += vi * a; vBv += vi * b; dvMdv += (vi - vOld[i]) * (m - pMv0[i]);
     uBu += pu0[i] * bu;
     fv += pf0[i] * vi;
@@ -182,8 +181,8 @@ bool recordStep(Kernel &kernel, const double *pv0, const double *pu0, const doub
   slotVelocities(kernel, pv0, cv);
   double contact = 0;
   for (int j = 0; j < kernel.factor.nc; j++) contact += nodes.slotWeight[j] * Lam[j] * cv[j];
-  const double kinetic = 0.5 * vMv, elastic = 0.5 * uBu, kineticJump = 0.5 * dvMdv, elasticJump = 0.5 * k * k * vBv;
-  const double viscous = k * vAv, contactWork = k * contact, external = k * fv;
+  const double kinetic = 0.5 * vMv, elastic = 0.5 * uBu, kineticJump = 0.5 * dvMdv, elasticJump = 0.5 * dt * dt * vBv;
+  const double viscous = dt * vAv, contactWork = dt * contact, external = dt * fv;
   const double numerical = kineticJump + elasticJump;
   const double balance = kinetic + elastic - record.energyOld + numerical + viscous + contactWork - external;
   const double largest = std::max({std::fabs(kinetic), std::fabs(elastic), std::fabs(record.energyOld), numerical,
@@ -196,12 +195,12 @@ bool recordStep(Kernel &kernel, const double *pv0, const double *pu0, const doub
   std::vector<double> ov;
   nodeVelocities(kernel, pv0, cv, ov);
   double normalForce = 0, tangentialForce = 0, tangentialForce2 = 0, xB = 1e300, xC = 1e300;
-  long zones[5] = {0, 0, 0, 0, 0};
+  long zones[zoneCount] = {};
   for (int i = 0; i < nodes.count(); i++) {
     const NodeValues s = nodeValues(kernel, i, ov.data(), Lam);
     zones[zone(s.normal, s.tangential)]++;
-    if (s.normal == 2) xB = std::min(xB, nodes.x[i]);
-    if (s.normal > 0 && s.tangential == 0) xC = std::min(xC, nodes.x[i]);
+    if (marksB(s.normal, s.tangential)) xB = std::min(xB, nodes.x[i]);
+    if (marksC(s.normal, s.tangential)) xC = std::min(xC, nodes.x[i]);
     normalForce += nodes.weight[i] * s.pn;
     if (nodes.frame.empty()) {                     // 2D: along each node's tangent
       tangentialForce += nodes.weight[i] * s.lt;
@@ -217,7 +216,7 @@ bool recordStep(Kernel &kernel, const double *pv0, const double *pu0, const doub
     }
   }
   rec[RecordNormalForce] = normalForce; rec[RecordTangentialForce] = tangentialForce;
-  for (int z = 0; z < 5; z++) rec[RecordZoneFree + z] = zones[z];
+  for (int z = 0; z < zoneCount; z++) rec[RecordZone0 + z] = zones[z];
   rec[RecordXB] = xB; rec[RecordXC] = xC; rec[RecordTangentialForce2] = tangentialForce2;
   return std::isfinite(balance);
 }

@@ -1,6 +1,8 @@
 // registry.cpp: the kernel instances, the one mutable object at file scope. The FreeFEM
-// functions act on the current instance; a script may make another (contactKernelNew), e.g.
-// for a pilot solve in the same process, and switch between them (contactKernelUse).
+// functions act on the current instance; a script may make another (contactKernelNew) and
+// switch between them (contactKernelUse). No run of the suite uses more than one (the pilot
+// runs of -adapt are processes of their own): tests/kernel_check.edp makes two and checks that
+// they share nothing, the evidence that the kernel's whole state is its Kernel value.
 #include <memory>
 #include "kernel.hpp"
 

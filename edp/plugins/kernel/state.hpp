@@ -2,7 +2,10 @@
 // their slots, the solver settings, the factorization of S and the Delassus matrix, the
 // products with M, A, B, the record of the steps, the Newton and fixed-point states, the
 // node rows' file and the solver log. The FreeFEM functions act on the current instance of
-// the registry (registry.cpp; bindings.cpp); the modules take it as an argument:
+// the registry (registry.cpp); the modules take it as an argument:
+//   bindings.cpp       the FreeFEM functions (the kernel's API, listed at its top)
+//   registry.cpp       the instances, the current one
+//   columns.cpp        the tables of columns.hpp, by name
 //   nodes.cpp          the contact nodes, the law's data, the nodes' velocities
 //   factorization.cpp  S factorized, the Delassus matrix, the back-substitutions
 //   products.cpp       M, A, B merged; their products
@@ -45,7 +48,7 @@ struct SparseRows {
 
 // ---------------------------------------------------------------- the contact nodes
 struct ContactNodes {
-  std::vector<double> x, weight, bound;                   // per node: x, w, g
+  std::vector<double> x, weight, g;                       // per node: x, w, the velocity bound g
   std::vector<int> observeStart, observeColumn;          // v -> v_nu, v_tau per node (CSR)
   std::vector<double> observeValue;
   int observeWidth = 0;                                  // the observation's columns: its largest + 1

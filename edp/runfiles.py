@@ -1,12 +1,14 @@
 """runfiles.py: the one reader of the files of this suite (docs/design.md, "Output files",
 "Scenes"), for every Python tool: plots/, tests/ and the studies. Tables (by column name),
-summary.txt, run folders, MSH 2.2 meshes, VTK files, the option table edp/options.txt,
-scenes and a run's loads (scene data; the law's values per node are the outputs' columns g,
-damped_response, force_scale, friction_bound, the statuses and zone), the solver's failure
-message, the figure names of edp/figures.txt, the comparison of two runs; and the tools'
-conventions: run_tool prints an InputError as one line 'TOOL: error: MESSAGE', names that are
-not UTF-8 or hold a control character are refused, files are written never through a
-symbolic link. A script finds it by itself: sys.path.insert(0, <repository>/edp).
+summary.txt, run folders, the zones of a run (zone_columns: its own headers), MSH 2.2
+meshes, VTK files, the option table edp/options.txt, scenes and a run's loads (scene data;
+the law's values per node are the outputs' columns g, damped_response, force_scale,
+friction_bound, the statuses and zone), the solver's failure message, the figure names of
+edp/figures.txt, the benchmark's measurements (read_process_time, read_pairs), the
+comparison of two runs; and the tools' conventions: run_tool prints an InputError as one
+line 'TOOL: error: MESSAGE', names that are not UTF-8 or hold a control character are
+refused, files are written never through a symbolic link. A script finds it by itself:
+sys.path.insert(0, <repository>/edp).
 """
 import collections
 import contextlib
@@ -363,21 +365,40 @@ def run_dimension(folder):
     return int(summary["dimension"])
 
 
-# The zones of docs/design.md, "Statuses and zones": their columns of summary.txt and
-# contact_history.txt, in the order of their codes (the column zone: 0 to 4).
-ZONE_COLUMNS = ("zone_free", "zone_damped_slip", "zone_damped_stick", "zone_bound_slip", "zone_bound_stick")
+def zone_names(names):
+    """The zones among `names` (a table's columns, the keys of summary.txt): those named
+    zone_*, in their order."""
+    return tuple(name for name in names if name.startswith("zone_"))
 
 
-def node_history(path, nodes, xyz=None):
-    """contact_nodes_history.txt as (the table, t of its recorded steps, zones (steps, nodes)):
-    `nodes` rows (nodes 0 to nodes - 1, in the order of contact.txt) at each recorded step, the
-    column zone in 0..4; with xyz (nodes, 3), a 3D run's nodes, checked to be where contact.txt
-    puts them."""
-    h = read_table(path)
+def zone_columns(folder):
+    """The zones of a run, in the order of their codes (the column zone of contact.txt and
+    contact_nodes_history.txt, contact_zone of the VTK files: 0, 1, ...; docs/design.md,
+    "Statuses and zones"): the columns zone_* of its contact_history.txt or, without that
+    file (the studies keep the histories of some runs only), the keys zone_* of its
+    summary.txt. The solver names them; no Python tool lists them again, so that a law
+    with other zones (edp/plugins/contactlaw.hpp) is read and drawn as it is."""
+    history = os.path.join(folder, "contact_history.txt")
+    if os.path.isfile(history):
+        source, names = history, zone_names(read_table(history, empty=True).columns)
+    else:
+        summary = read_summary(folder)
+        source, names = summary.source, zone_names(summary)
+    if not names:
+        raise InputError(f"{source}: no zone_* {'column' if source == history else 'key'} (the zones of the run)")
+    return names
+
+
+def node_history(folder, nodes, xyz=None):
+    """The run's contact_nodes_history.txt as (the table, t of its recorded steps, zones
+    (steps, nodes)): `nodes` rows (nodes 0 to nodes - 1, in the order of contact.txt) at each
+    recorded step, the column zone a code of the run's zones (zone_columns); with xyz
+    (nodes, 3), a 3D run's nodes, checked to be where contact.txt puts them."""
+    h = read_table(os.path.join(folder, "contact_nodes_history.txt"))
     steps = np.unique(h["step"])
     if len(h) != len(steps) * nodes or not np.array_equal(h["node"], np.tile(np.arange(nodes), len(steps))):
         raise InputError(f"{h.path}: not {nodes} rows (nodes 0 to {nodes - 1}) for each of its {len(steps)} steps")
-    zones = h.codes("zone", 0, len(ZONE_COLUMNS) - 1)
+    zones = h.codes("zone", 0, len(zone_columns(folder)) - 1)
     if xyz is not None:
         moved = np.abs(np.column_stack(h.finite("x", "y", "z")) - np.tile(xyz, (len(steps), 1))).max(axis=1)
         bad = np.flatnonzero(moved > 1e-9 * max(float(np.ptp(xyz, axis=0).max()), 1e-300))
@@ -682,6 +703,31 @@ def figure_names():
     return tuple(names)
 
 
+# ---------------------------------------------------------------- the benchmark's measurements
+def read_process_time(path):
+    """What /usr/bin/time -f "%e %M" -o PATH measured of a process (plots/bench.sh): (its wall
+    seconds, its peak memory in KiB), the two numbers of the file's last line (GNU time
+    writes 'Command exited with non-zero status N' before them for a process that failed);
+    (nan, nan) when that line is not two numbers (time was stopped before it wrote them)."""
+    lines = [line for line in read_lines(path) if line.strip()]
+    words = lines[-1].split() if lines else []
+    try:
+        wall, peak = (float(word) for word in words) if len(words) == 2 else (np.nan, np.nan)
+    except ValueError:
+        wall, peak = np.nan, np.nan
+    return wall, peak
+
+
+def read_pairs(path):
+    """The 'name value' pairs of a file's words, as Values (edp/compare.edp prints one line
+    'error_L2 E norm_L2 N error_gamma3 G'); empty for an empty file (a comparison that was
+    refused: its reason is in its .log)."""
+    words = " ".join(read_lines(path)).split()
+    if len(words) % 2:
+        raise InputError(f"{path}: {len(words)} words, not 'name value' pairs")
+    return Values(path, zip(words[0::2], words[1::2]))
+
+
 # ---------------------------------------------------------------- comparing two runs
 def compare_runs(folder, other, rtol):
     """The differences between two runs of the same discrete problem (another solver or
@@ -690,8 +736,8 @@ def compare_runs(folder, other, rtol):
     the largest |value| of its columns in either run, at least the law's scale of the first
     run (its largest g for the velocities, p(g) (force_scale) for the stresses, times the
     contact area for the forces): a column of round-off in both (lambda_nu before any node
-    reaches the bound) is compared as such. Zone counts, x_B and x_C must be equal. The
-    histories are compared where both runs have them."""
+    reaches the bound) is compared as such. Zone counts (the columns zone_* of the first run),
+    x_B and x_C must be equal. The histories are compared where both runs have them."""
     law = read_table(os.path.join(folder, "contact.txt"))
     g, stress = float(law["g"].max()), float(law["force_scale"].max())
     extra = (lambda *names: names) if run_dimension(folder) == 3 else (lambda *names: ())
@@ -709,7 +755,7 @@ def compare_runs(folder, other, rtol):
                 if not err <= rtol:
                     failures.append(f"{name} {col}: difference {err:.3e} of the scale of {'/'.join(family)} > {rtol:g} "
                                     f"vs {other}")
-        for col in exact:
+        for col in exact + zone_names(a.columns):          # (the zone counts: contact_history.txt)
             differ = ~((a[col] == b[col]) | (np.isnan(a[col]) & np.isnan(b[col])))
             if differ.any():
                 failures.append(f"{name} {col}: differs at {int(differ.sum())} steps vs {other}")
@@ -721,7 +767,7 @@ def compare_runs(folder, other, rtol):
             ("history.txt", (("kinetic", "elastic", "numerical_dissipation", "viscous_dissipation", "contact_dissipation",
                               "external_work", "kinetic_jump", "elastic_jump"),), (), ()),
             ("contact_history.txt", (("normal_force", "tangential_force") + extra("tangential_force2"),),
-             ZONE_COLUMNS + ("x_B", "x_C"), (stress * float(np.abs(law["weight"]).sum()),))):
+             ("x_B", "x_C"), (stress * float(np.abs(law["weight"]).sum()),))):
         if os.path.isfile(os.path.join(folder, name)) and os.path.isfile(os.path.join(other, name)):
             compare(name, families, exact, floors)      # (the studies keep the histories of some runs only)
     return failures

@@ -38,11 +38,10 @@ import figurefiles
 import gamma3
 import runfiles
 import style
-from style import ZONE_COLORS, ZONES
 
 plt = style.pyplot()
 FRAMES, FPS, DPI = 100, 10, 80          # at most 100 frames, 10 a second, 80 pixels an inch
-LEGEND = (len(ZONES), 5, 1.5)           # the zones' legend: 5 entries, up to 5 columns of 1.5 inches
+LEGEND = (5, 1.5)                       # the zones' legend: up to 5 columns of 1.5 inches
 
 
 def save_animation(fig, draw, count, files, written):
@@ -73,8 +72,9 @@ def save_animation(fig, draw, count, files, written):
     return written
 
 
-def time_series(folder):
-    """[(t, Vtu)] of the run's vtk/ folder, at most FRAMES of them, all on the same mesh."""
+def time_series(folder, zones):
+    """[(t, Vtu)] of the run's vtk/ folder, at most FRAMES of them, all on the same mesh, their
+    zone codes those of the run's zones (style.run_zones)."""
     vtk = os.path.join(folder, "vtk")
     if not os.path.isdir(vtk) or not os.listdir(vtk):          # a run without -vtk N may leave it empty
         raise runfiles.InputError(f"{folder} has no vtk/ time series: run with -vtk N")
@@ -87,7 +87,7 @@ def time_series(folder):
     for _, vtu in frames:                                         # every value drawn, checked before drawing
         array(vtu, "u", 2)
         colour_values(vtu)
-        zones(vtu)
+        zone_codes(vtu, zones)
     return frames
 
 
@@ -104,12 +104,13 @@ def array(vtu, name, columns=None):
     return values
 
 
-def zones(vtu):
-    """The zone code of each point of a frame (contact_zone: -1 off Gamma3, else 0..4)."""
+def zone_codes(vtu, zones):
+    """The zone code of each point of a frame (contact_zone: -1 off Gamma3, else the code of
+    one of the run's zones)."""
     zone = array(vtu, "contact_zone")
-    bad = ~np.isin(zone, np.arange(-1, len(ZONES)))
+    bad = ~np.isin(zone, np.arange(-1, len(zones)))
     if bad.any():
-        raise runfiles.InputError(f"{vtu.path}: contact_zone = {zone[bad][0]:g}, not one of -1..{len(ZONES) - 1}")
+        raise runfiles.InputError(f"{vtu.path}: contact_zone = {zone[bad][0]:g}, not one of -1..{len(zones) - 1}")
     return zone.astype(int)
 
 
@@ -125,7 +126,8 @@ def animate(folder):
     files = figurefiles.FigureFiles(written)                  # refuses to draw over a file not ours
     if runfiles.run_dimension(folder) == 3:
         return animate3(folder, files, written)
-    frames = time_series(folder)
+    zones = style.run_zones(folder)
+    frames = time_series(folder, zones)
     xy, triangles = frames[0][1].xy, frames[0][1].triangles
     largest = max(np.hypot(*array(vtu, "u", 2).T).max() for _, vtu in frames)
     factor = style.magnification(np.ptp(xy, axis=0).max(), largest)
@@ -135,11 +137,11 @@ def animate(folder):
     scale = "true scale" if factor == 1 else f"displacements magnified {factor:g} times"
     name = os.path.basename(os.path.normpath(os.path.abspath(folder)))
     fig, ax = style.body_figure(np.concatenate([xy] + moved), f"{name} ({scale})\nt = {frames[-1][0]:.4g} s",
-                                legend=LEGEND, box=(5.6, 3.9), right=1.6)
+                                legend=(len(zones), *LEGEND), box=(5.6, 3.9), right=1.6)
     limits, title = (ax.get_xlim(), ax.get_ylim()), ax.get_title().rsplit("\n", 1)[0]
     fig.set_size_inches(*even_pixels(fig.get_size_inches()))
     fig.colorbar(plt.cm.ScalarMappable(norm=norm, cmap="viridis"), ax=ax, label=label, shrink=0.8)
-    fig.legend(handles=style.zone_patches(), loc="lower center", ncol=style.legend_columns(fig, *LEGEND[1:]),
+    fig.legend(handles=style.zone_patches(zones), loc="lower center", ncol=style.legend_columns(fig, *LEGEND),
                fontsize=7)
     outline = xy[gamma3.boundary_edges(triangles)]
 
@@ -149,9 +151,9 @@ def animate(folder):
         ax.tripcolor(mtri.Triangulation(*moved[k].T, triangles), colour_values(vtu)[0], norm=norm, cmap="viridis",
                      shading="gouraud")
         ax.add_collection(mcollections.LineCollection(outline, colors="0.6", linewidths=0.8))
-        zone = zones(vtu)
+        zone = zone_codes(vtu, zones)
         on = zone >= 0
-        ax.scatter(*moved[k][on].T, c=[ZONE_COLORS[z] for z in zone[on]], s=12, edgecolors="k",
+        ax.scatter(*moved[k][on].T, c=[style.zone_color(z) for z in zone[on]], s=12, edgecolors="k",
                    linewidths=0.3, zorder=3)
         ax.set_xlim(*limits[0])
         ax.set_ylim(*limits[1])
@@ -161,7 +163,7 @@ def animate(folder):
         ax.set_title(f"{title}\nt = {t:.4g} s")
 
     draw(len(frames) - 1)                               # the layout for the widest title
-    fig.tight_layout(rect=(0, (0.1 + 0.2 * legend_rows(fig)) / fig.get_figheight(), 1, 1))   # the zones' legend below
+    fig.tight_layout(rect=(0, (0.1 + 0.2 * legend_rows(fig, len(zones))) / fig.get_figheight(), 1, 1))   # the zones' legend below
     return save_animation(fig, draw, len(frames), files, written)
 
 
@@ -178,9 +180,10 @@ def animate3(folder, files, written):
     mesh = os.path.join(folder, "mesh.msh")
     face = face3d.ContactFace(runfiles.read_msh3(mesh), contact, mesh)
     xyz = np.column_stack(contact.finite("x", "y", "z"))
-    _, t, zones = runfiles.node_history(os.path.join(folder, "contact_nodes_history.txt"), len(contact), xyz)
+    _, t, codes = runfiles.node_history(folder, len(contact), xyz)
+    zones = style.run_zones(folder)
     chosen = np.unique(np.linspace(0, len(t) - 1, min(len(t), FRAMES)).round().astype(int))
-    counts = np.array([[np.sum(row == zone.code) for zone in ZONES] for row in zones])
+    counts = np.array([[np.sum(row == zone.code) for zone in zones] for row in codes])
     width, left, legend, title, below, history = 8.0, 0.7, 2.2, 0.75, 0.5, 1.6     # inches
     w, h = face.extent() + 0.08 * face.extent().max()               # with the margins of face3d.face_axes
     map_width = width - left - legend - 0.2
@@ -200,24 +203,24 @@ def animate3(folder, files, written):
     ax.add_collection(LineCollection(face.uv[face.edges()], colors="w", linewidths=0.5, alpha=0.7))
     ax.plot(*face.uv.T, "o", color="k", markersize=2, markeredgewidth=0)
     face3d.face_axes(ax, face)
-    for zone, column in zip(ZONES, counts.T):
+    for zone, column in zip(zones, counts.T):
         lower.plot(t, column, color=zone.color)
     now = lower.axvline(t[0], color="k", linewidth=1)
     lower.set_xlabel("t [s]")
     lower.set_ylabel("nodes")
     lower.set_title("nodes per zone on $\\Gamma_3$", fontsize=8)
-    colors = np.array([mcolors.to_rgba(zone.color) for zone in ZONES])
+    colors = np.array([mcolors.to_rgba(zone.color) for zone in zones])
 
     def draw(k):
         step = chosen[k]
-        filled = colors[zones[step][owners]]
+        filled = colors[codes[step][owners]]
         cells.set_facecolor(filled)
         cells.set_edgecolor(filled)
         now.set_xdata([t[step], t[step]])
         if ax.get_legend():
             ax.get_legend().remove()
         ax.legend(handles=[Patch(color=zone.color, label=f"{zone.name}: {style.nodes(count)}")
-                           for zone, count in zip(ZONES, counts[step])], fontsize=7, loc="upper left",
+                           for zone, count in zip(zones, counts[step])], fontsize=7, loc="upper left",
                   bbox_to_anchor=(1.02, 1.0), borderaxespad=0)
         ax.set_title(f"{name}: zones on $\\Gamma_3$ at t = {t[step]:.4g} s\n{face.view}", fontsize=8)
 
@@ -230,9 +233,9 @@ def even_pixels(size):
     return [2 * round(side * DPI / 2) / DPI for side in size]
 
 
-def legend_rows(fig):
-    """The rows of the zones' legend across the figure's bottom."""
-    return -(-len(ZONES) // style.legend_columns(fig, *LEGEND[1:]))
+def legend_rows(fig, entries):
+    """The rows of the zones' legend (its entries) across the figure's bottom."""
+    return -(-entries // style.legend_columns(fig, *LEGEND))
 
 
 def main():

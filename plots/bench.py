@@ -29,19 +29,13 @@ def run_record(bench, name):
     folder = os.path.join(bench, "runs", name)
     record = {"name": name, "converged": os.path.isfile(os.path.join(folder, "summary.txt"))}
     record["summary"] = runfiles.read_summary(folder) if record["converged"] else {}
-    wall, peak = NAN, NAN
-    if os.path.isfile(folder + ".time"):
-        words = open(folder + ".time").read().split()
-        try:
-            wall, peak = float(words[-2]), float(words[-1]) / 1024.0
-        except (ValueError, IndexError):
-            pass
-    record["wall"], record["peak_MB"] = wall, peak
+    wall, peak = runfiles.read_process_time(folder + ".time") if os.path.isfile(folder + ".time") else (NAN, NAN)
+    record["wall"], record["peak_MB"] = wall, peak / 1024.0
     for key, suffix in (("error", ".error"), ("solver_error", ".solver_error")):
         record[key] = {}
         if os.path.isfile(folder + suffix):
-            words = open(folder + suffix).read().split()
-            record[key] = {words[i]: float(words[i + 1]) for i in range(0, len(words) - 1, 2)}
+            pairs = runfiles.read_pairs(folder + suffix)
+            record[key] = {name: pairs.real(name) for name in pairs}
     return record
 
 
@@ -393,11 +387,12 @@ def chart_adapted_mesh(bench, columns, rows):
         mesh = runfiles.read_msh22(os.path.join(folder, "mesh.msh"))
         table = runfiles.read_table(os.path.join(folder, "contact.txt"))
         x, y = table["x"], table["y"]
-        zones = table.codes("zone", 0, len(style.ZONES) - 1)
+        kinds = style.run_zones(folder)
+        zones = table.codes("zone", 0, len(kinds) - 1)
         xb, xc, _ = final_contact(folder)
         for ax, zoom in ((axes[0][col], False), (axes[1][col], True)):
             ax.triplot(mesh.xy[:, 0], mesh.xy[:, 1], mesh.triangles, color="0.3", linewidth=0.15)
-            for zone in style.ZONES:
+            for zone in kinds:
                 on = zones == zone.code
                 if on.any():
                     ax.scatter(x[on], y[on], s=6 if zoom else 3, color=zone.color, zorder=3,

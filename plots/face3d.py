@@ -131,9 +131,8 @@ def draw_face_zones(ax, face, zones, nodes_size=2.5):
     """The zone of every node of Gamma3 over the face: each node's cell (ContactFace.cells)
     in its zone's colour, the triangles' edges in white, the nodes as black dots."""
     from matplotlib.collections import LineCollection, PolyCollection
-    colors = {zone.code: zone.color for zone in style.ZONES}
     quads, owners = face.cells()
-    filled = [colors[int(z)] for z in np.asarray(zones)[owners]]
+    filled = [style.zone_color(z) for z in np.asarray(zones)[owners]]
     ax.add_collection(PolyCollection(quads, facecolors=filled, edgecolors=filled, linewidths=0.4))
     ax.add_collection(LineCollection(face.uv[face.edges()], colors="w", linewidths=0.5, alpha=0.7))
     ax.plot(*face.uv.T, "o", color="k", markersize=nodes_size, markeredgewidth=0)

@@ -67,17 +67,6 @@ def fig3_contact_reactions(results, out):
     return style.save(fig, out, "fig3_contact_reactions")
 
 
-# The paper's zones (section 5): AB damped and sliding, BC at the bound and sliding, CD sticking
-# in contact; from the zone code of a node (style.ZONES). A free node is in none.
-PAPER_ZONES = {1: "AB", 3: "BC", 2: "CD", 4: "CD"}
-PAPER_COLORS = {"AB": "tab:green", "BC": "tab:orange", "CD": "tab:purple"}
-
-
-def paper_zones(c):
-    """The paper's zone of each node of a contact.txt ('' for a free node)."""
-    return [PAPER_ZONES.get(code, "") for code in c.codes("zone", 0, len(style.ZONES) - 1)]
-
-
 def bound_line(ax, c, **line):
     """The bound g of the column g of a contact.txt: a horizontal line labelled with its value
     where it is the same at every node, else g(x); returns its largest value."""
@@ -101,10 +90,10 @@ def fig4_velocities(results, out):
         ax.plot(c["x"], c["v_nu"], "o-", label=r"$v_\nu$")
         ax.plot(c["x"], c["v_tau"], "s-", label=r"$v_\tau$")
         g = bound_line(ax, c, color="k", linewidth=0.8, linestyle="--")
-        zones = paper_zones(c)
-        found = gamma3.stretches(c["x"], zones)
-        gamma3.shade_stretches(ax, found, PAPER_COLORS, alpha=0.12)
-        labels.append((ax, found, {name: f"{name}: {style.nodes(zones.count(name))}" for name in PAPER_COLORS}, g))
+        segments = style.paper_segments(c)
+        found = gamma3.stretches(c["x"], segments)
+        gamma3.shade_stretches(ax, found, style.PAPER_COLORS, alpha=0.12)
+        labels.append((ax, found, {name: f"{name}: {style.nodes(segments.count(name))}" for name in style.PAPER_COLORS}, g))
         ax.set_title(f"{style.problem_label(p)}: velocities on $\\Gamma_3$ at T = {p['T']}")
         ax.set_xlabel("x [m]")
         ax.legend(loc="center right")          # CD: v_nu = g, v_tau = 0 leave this corner empty
@@ -243,10 +232,10 @@ def zone_boundaries(results, out):
         name = style.problem_label(h.params)
         left.plot(h["t"], h["x_B"], color="tab:orange", label=f"$x_B$, {name}", **line)
         left.plot(h["t"], h["x_C"], color="tab:purple", label=f"$x_C$, {name}", **line)
-        counts = {"AB (damped, slip)": h["zone_damped_slip"], "BC (at the bound, slip)": h["zone_bound_slip"],
-                  "CD (stick)": h["zone_damped_stick"] + h["zone_bound_stick"]}
-        for (zone, count), color in zip(counts.items(), ("tab:green", "tab:orange", "tab:purple")):
-            right.plot(h["t"], count, color=color, label=f"{zone}, {problem}", **line)
+        counts = style.paper_segment_counts(h)
+        for segment in style.PAPER_SEGMENTS:
+            right.plot(h["t"], counts[segment.name], color=segment.color,
+                       label=f"{segment.name} ({segment.meaning}), {problem}", **line)
     left.set_title("zone boundaries on $\\Gamma_3$")
     left.set_xlabel("t [s]")
     left.set_ylabel("x [m]")
@@ -298,9 +287,10 @@ def scene_cylinder(results, out):
     fig, (left, right) = plt.subplots(1, 2)
     tri = mtri.Triangulation(f["x"] + f["u_x"], f["y"] + f["u_y"], mesh.triangles)
     left.triplot(tri, color="0.6", linewidth=0.3)
-    zone = c.codes("zone", 0, len(style.ZONES) - 1)
-    for z in style.ZONES[1:]:
-        mask = zone == z.code
+    zones = style.run_zones(folder)
+    zone, touching = c.codes("zone", 0, len(zones) - 1), c.codes("normal_status", 0, 2) > 0
+    for z in zones:                                     # the nodes in contact (normal status 1 or 2)
+        mask = (zone == z.code) & touching
         if mask.any():
             left.plot(c["x"][mask], c["y"][mask], "o", color=z.color, label=f"{z.name}: {int(mask.sum())} nodes")
     left.set_aspect("equal")

@@ -49,24 +49,24 @@ import figurefiles
 import gamma3
 import runfiles
 import style
-from style import ZONE_COLORS
 
 plt = style.pyplot()
 
 
 class Run:
-    """A run folder: its name, contact.txt at T (its statuses and zone codes checked), mesh,
-    the zone code of each contact node, where the nodes lie along Gamma3 (position, axis
-    label) and the piece of Gamma3 each lies on (gamma3.contact_pieces)."""
+    """A run folder: its name, its zones (zone_types: style.run_zones), contact.txt at T (its
+    statuses and zone codes checked), mesh, the statuses and zone code of each contact node
+    (normal, tangential, zones), where the nodes lie along Gamma3 (position, axis label) and
+    the piece of Gamma3 each lies on (gamma3.contact_pieces)."""
 
     def __init__(self, folder):
         self.folder = runfiles.run_folder(folder)
         self.name = os.path.basename(os.path.normpath(os.path.abspath(folder)))
         self.dimension = runfiles.run_dimension(folder)
         self.contact = c = runfiles.read_table(self.file("contact.txt"))
-        c.codes("normal_status", 0, 2)
-        c.codes("tangential_status", 0, 1)
-        self.zones = c.codes("zone", 0, len(style.ZONES) - 1)
+        self.normal, self.tangential = c.codes("normal_status", 0, 2), c.codes("tangential_status", 0, 1)
+        self.zone_types = style.run_zones(folder)
+        self.zones = c.codes("zone", 0, len(self.zone_types) - 1)
         if self.dimension == 3:
             self.init3()
             return
@@ -121,8 +121,9 @@ def contact_panels(fig_title, runs, shade):
         ax.set_ylabel(unit)
         handles = ax.get_legend_handles_labels()[0]
         if shade:
-            gamma3.shade_stretches(ax, gamma3.stretches(runs[0].position, runs[0].zones, runs[0].pieces), ZONE_COLORS)
-            handles += style.zone_patches(runs[0].zones, alpha=0.3) if ax is axes[0] else []
+            gamma3.shade_stretches(ax, gamma3.stretches(runs[0].position, runs[0].zones, runs[0].pieces),
+                                   {zone.code: zone.color for zone in runs[0].zone_types})
+            handles += style.zone_patches(runs[0].zone_types, runs[0].zones, alpha=0.3) if ax is axes[0] else []
         ax.legend(handles=handles, fontsize=7, loc="upper left", bbox_to_anchor=(1.01, 1.0))
     axes[2].set_xlabel(runs[0].axis if len({run.axis for run in runs}) == 1 else "position along $\\Gamma_3$ [m]")
     axes[0].set_title(fig_title)
@@ -162,7 +163,7 @@ def histories(run):
     """Against t: the contact forces, the nodes per zone, the energy terms, the energy balance."""
     h = runfiles.read_table(run.file("contact_history.txt"))
     e = runfiles.read_table(run.file("history.txt"))
-    h.finite("t", "normal_force", "tangential_force", *(zone.column for zone in style.ZONES))
+    h.finite("t", "normal_force", "tangential_force", *(zone.column for zone in run.zone_types))
     e.finite("t", "energy_residual", *(column for column, _, _ in style.ENERGY_TERMS))
     fig, ((forces, zones), (energy, residual)) = plt.subplots(2, 2, figsize=(11, 7))
     forces.plot(h["t"], h["normal_force"], label=r"normal force $\sum_i w_i\, p_{\nu,i}$")
@@ -220,8 +221,8 @@ def deformed(run):
     edges = gamma3.boundary_edges(run.mesh.triangles)
     ax.add_collection(mcollections.LineCollection(xy[edges], colors="0.6", linewidths=0.8, label="undeformed outline"))
     nodes = gamma3.nearest(xy, np.c_[run.contact["x"], run.contact["y"]])
-    ax.scatter(*moved[nodes].T, c=[ZONE_COLORS[z] for z in run.zones], s=14, edgecolors="k", linewidths=0.4, zorder=3)
-    handles = ax.get_legend_handles_labels()[0] + style.zone_patches(run.zones)
+    ax.scatter(*moved[nodes].T, c=[style.zone_color(z) for z in run.zones], s=14, edgecolors="k", linewidths=0.4, zorder=3)
+    handles = ax.get_legend_handles_labels()[0] + style.zone_patches(run.zone_types, run.zones)
     ax.legend(handles=handles, fontsize=7, loc="upper center", bbox_to_anchor=(0.5, -0.12),
               ncol=style.legend_columns(fig, 3, 2.4))
     return fig
@@ -251,15 +252,15 @@ def zone_map(run):
     pieces of Gamma3 blank) at every recorded step (rows: a step's zones drawn from the
     previous recorded time to its own), with the steps of x_B(t) and x_C(t) of
     contact_history.txt over it when the position is x."""
-    _, t, zones = runfiles.node_history(run.file("contact_nodes_history.txt"), len(run.contact))
+    _, t, zones = runfiles.node_history(run.folder, len(run.contact))
     edges, columns = gamma3.map_columns(run.position, run.pieces)
     fig, ax = plt.subplots(figsize=(10, 6))
     ax.grid(False)
-    colors = mcolors.ListedColormap([zone.color for zone in style.ZONES])
-    norm = mcolors.BoundaryNorm(np.arange(len(style.ZONES) + 1) - 0.5, len(style.ZONES))
+    colors = mcolors.ListedColormap([zone.color for zone in run.zone_types])
+    norm = mcolors.BoundaryNorm(np.arange(len(run.zone_types) + 1) - 0.5, len(run.zone_types))
     shown = np.ma.masked_array(zones[:, columns], mask=np.tile(columns < 0, (len(t), 1)))
     ax.pcolormesh(edges, np.r_[min(0.0, t[0]), t], shown, cmap=colors, norm=norm)
-    handles = style.zone_patches()
+    handles = style.zone_patches(run.zone_types)
     if run.axis == "x [m]":
         h = runfiles.read_table(run.file("contact_history.txt"))
         for column, line, color, meaning, none in (
@@ -335,8 +336,8 @@ def face_map(fig, axes, run, values, label, title, norm=None):
 def contact_at_T3(run):
     """A 3D run's contact on Gamma3 at T, the face seen from outside (face3d.ContactFace):
     maps of v_nu (the bound g marked on its colour bar), p_nu, and |v_tau| with the slip
-    velocity of each slipping node as an arrow; |lambda_tau| of every node against its bound
-    mu p(v_nu), coloured by zone."""
+    velocity of each slipping node as an arrow; |lambda_tau| of every node against its friction
+    bound (the column friction_bound), coloured by zone."""
     c, face = run.contact, run.face
     p = c.params
     fig, (normal, pressure, slip), cone = face_grid(face, 3)
@@ -350,7 +351,7 @@ def contact_at_T3(run):
     face_map(fig, pressure, run, c["p_nu"], "$p_\\nu$ [GPa]", "normal stress\n$p_\\nu = p(v_\\nu) + \\lambda_\\nu$")
     velocity = face.tangential(c["v_tau"], c["v_tau2"])
     speed = np.hypot(c["v_tau"], c["v_tau2"])
-    slipping = run.zones % 2 == 1                             # zones 1 and 3: tangential status 1
+    slipping = (run.normal > 0) & (run.tangential == 1)       # in contact (normal status 1, 2) and slipping (1)
     longest = float(speed[slipping].max()) if slipping.any() else 0.0
     face_map(fig, slip, run, speed, "$|v_\\tau|$ [m/s]", "slip speed $|v_\\tau|$\narrows: the slip velocity"
              + (f" (longest {longest:.3g} m/s)" if slipping.any() else ": no node slips"),
@@ -362,16 +363,16 @@ def contact_at_T3(run):
                     scale_units="xy", scale=longest / (0.7 * spacing), pivot="middle", width=0.005, zorder=3, clip_on=False, in_layout=False)
     friction, bound = np.hypot(c["lambda_tau"], c["lambda_tau2"]), c["friction_bound"]
     top = 1.08 * max(float(friction.max()), float(bound.max())) or 1.0
-    cone.plot([0, top], [0, top], "k--", linewidth=0.8, label="$|\\lambda_\\tau| = \\mu\\, p(v_\\nu)$: slip")
-    cone.scatter(bound, friction, c=[ZONE_COLORS[z] for z in run.zones], s=18, edgecolors="k", linewidths=0.4, zorder=3,
+    cone.plot([0, top], [0, top], "k--", linewidth=0.8, label="$|\\lambda_\\tau|$ = friction bound: slip")
+    cone.scatter(bound, friction, c=[style.zone_color(z) for z in run.zones], s=18, edgecolors="k", linewidths=0.4, zorder=3,
                  clip_on=False)
     cone.set_xlim(0, top)
     cone.set_ylim(0, top)
-    cone.set_xlabel("friction bound $\\mu\\, p(v_\\nu)$ [GPa]")
+    cone.set_xlabel("friction bound [GPa]")
     cone.set_ylabel("$|\\lambda_\\tau|$ [GPa]")
     cone.set_title("friction: $|\\lambda_\\tau|$ of each node against its bound" if bound.max() > 0 else
-                   "friction: the bound $\\mu\\, p(v_\\nu)$ is 0 at every node (frictionless)")
-    cone.legend(handles=cone.get_legend_handles_labels()[0] + style.zone_patches(run.zones), fontsize=7,
+                   "friction: the friction bound is 0 at every node (frictionless)")
+    cone.legend(handles=cone.get_legend_handles_labels()[0] + style.zone_patches(run.zone_types, run.zones), fontsize=7,
                 loc="upper left", bbox_to_anchor=(1.01, 1.0))
     fig.suptitle(f"{run.name}: contact on $\\Gamma_3$ at T = {p['T']} ({style.problem_label(p)})\n{face.view}"
                  + ("; $\\Gamma_3$ overlaps itself in this view" if face.folded else ""), fontsize=10)
@@ -387,7 +388,7 @@ def zone_map3(run):
     height = min(8.0 * h / w, 6.5)
     fig, ax = plt.subplots(figsize=(10.8, max(height, 1.8) + 1.4))
     face3d.draw_face_zones(ax, face, run.zones)
-    ax.legend(handles=style.zone_patches(run.zones), fontsize=7, loc="upper left", bbox_to_anchor=(1.01, 1.0),
+    ax.legend(handles=style.zone_patches(run.zone_types, run.zones), fontsize=7, loc="upper left", bbox_to_anchor=(1.01, 1.0),
               title=f"{style.nodes(len(run.zones))} at T", title_fontsize=7)
     ax.set_title(f"{run.name}: zones on $\\Gamma_3$ at T = {run.contact.params['T']}, each node's cell (halfway to its "
                  f"neighbours) in its zone's colour\n{face.view}"
@@ -444,7 +445,7 @@ def deformed3(run):
         ax.add_collection3d(Line3DCollection(drawn(outline), colors="0.55", linewidths=0.7, zorder=2))
         if k == 1:
             seen = np.isin(contact_rows, surface[front])      # on a triangle facing the viewer
-            ax.scatter(*drawn(moved[contact_rows[seen]]).T, c=[ZONE_COLORS[z] for z in run.zones[seen]], s=10,
+            ax.scatter(*drawn(moved[contact_rows[seen]]).T, c=[style.zone_color(z) for z in run.zones[seen]], s=10,
                        edgecolors="k", linewidths=0.3, depthshade=False, zorder=3)
         ax.set_xlabel("x [m]")
         ax.set_ylabel("z [m]")
@@ -454,7 +455,7 @@ def deformed3(run):
             axis.set_major_locator(mticker.MaxNLocator(4 if extent > 0.2 * (high - low).max() else 1))
         ax.tick_params(labelsize=7)
         fig.text(0.03 + 0.43 * k, 0.905, title, fontsize=10)
-    handles = [mlines.Line2D([], [], color="0.55", label="undeformed edges")] + style.zone_patches(run.zones)
+    handles = [mlines.Line2D([], [], color="0.55", label="undeformed edges")] + style.zone_patches(run.zone_types, run.zones)
     fig.legend(handles=handles, loc="lower center", ncol=len(handles), fontsize=7)
     fig.subplots_adjust(left=0.0, right=0.86, bottom=0.08, top=0.84, wspace=0.1)
     bar = fig.add_axes((0.905, 0.2, 0.015, 0.6))

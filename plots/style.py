@@ -1,5 +1,6 @@
 """style.py: the look the figures share: matplotlib set up for files (pyplot, STYLE, save),
-the zones' names and colours (ZONES, zone_patches, zone_counts_plot), the energy terms of
+the zones of a run with their names and colours (run_zones, zone_color, zone_patches,
+zone_counts_plot), the paper's segments AB, BC, CD (PAPER_SEGMENTS), the energy terms of
 history.txt (energy_terms_plot), labels, and a figure shaped to the body it shows
 (magnification, body_figure). Imported by the scripts of plots/, which put edp/ (runfiles)
 on the path.
@@ -58,35 +59,89 @@ def nodes(count):
     return f"{count} node" if count == 1 else f"{count} nodes"
 
 
-# The zones (docs/figures.md, "The zones"): the code (the column zone of contact.txt and
-# contact_nodes_history.txt, contact_zone of the VTK files), the column of summary.txt and
-# contact_history.txt, the name and the colour in every figure.
+# The zones (docs/figures.md, "The zones") are a run's own: the columns zone_* of its
+# contact_history.txt, in the order of their codes (runfiles.zone_columns), which the solver
+# names from the law (edp/plugins/contactlaw.hpp). A zone's name in the figures is its
+# column's words, its colour that of its code in ZONE_COLORS, the same in every figure.
+# Nothing here lists the zones, so that a law with other zones is drawn as it is.
 Zone = collections.namedtuple("Zone", "code column name color")
-ZONES = tuple(Zone(code, column, name, color) for code, (column, name, color) in enumerate(zip(
-    runfiles.ZONE_COLUMNS, ("free", "damped, slip", "damped, stick", "at the bound, slip", "at the bound, stick"),
-    ("0.6", "tab:green", "tab:olive", "tab:orange", "tab:purple"))))
-ZONE_COLORS = {zone.code: zone.color for zone in ZONES}
+ZONE_COLORS = ("0.6", "tab:green", "tab:olive", "tab:orange", "tab:purple",     # codes 0 to 4
+               "tab:red", "tab:brown", "tab:cyan", "tab:pink", "tab:blue")     # (for a law with more zones)
 
 
-def zone_patches(codes=None, alpha=1.0):
-    """Legend handles of the zones: all five, or those of the given zone codes of nodes, with
-    their node counts."""
+def zone_color(code):
+    """The colour of a zone code (ZONE_COLORS, round again past its end)."""
+    return ZONE_COLORS[int(code) % len(ZONE_COLORS)]
+
+
+def zone_name(column):
+    """The name of a zone in the figures, its column's words: zone_free 'free',
+    zone_bound_slip 'bound, slip'."""
+    words = column[len("zone_"):].split("_")
+    return ", ".join(part for part in (" ".join(words[:-1]), words[-1]) if part)
+
+
+def zones(columns):
+    """A Zone for each zone column (runfiles.zone_names), the code its place among them."""
+    return tuple(Zone(code, column, zone_name(column), zone_color(code)) for code, column in enumerate(columns))
+
+
+def run_zones(folder):
+    """The zones of a run folder (runfiles.zone_columns), a Zone each."""
+    return zones(runfiles.zone_columns(folder))
+
+
+def zone_patches(zones, codes=None, alpha=1.0):
+    """Legend handles of the zones (a run's Zones): all of them, or those of the given zone
+    codes of nodes, with their node counts."""
     from matplotlib.patches import Patch
     if codes is None:
-        return [Patch(color=zone.color, alpha=alpha, label=zone.name) for zone in ZONES]
-    counts = {zone: int(np.sum(np.asarray(codes) == zone.code)) for zone in ZONES}
+        return [Patch(color=zone.color, alpha=alpha, label=zone.name) for zone in zones]
+    counts = {zone: int(np.sum(np.asarray(codes) == zone.code)) for zone in zones}
     return [Patch(color=zone.color, alpha=alpha, label=f"{zone.name}: {nodes(count)}")
             for zone, count in counts.items() if count]
 
 
 def zone_counts_plot(ax, h):
-    """The nodes of each zone against t, from a contact_history.txt."""
-    for zone in ZONES:
+    """The nodes of each zone against t, from a contact_history.txt (its columns zone_*)."""
+    for zone in zones(runfiles.zone_names(h.columns)):
         ax.plot(h["t"], h[zone.column], color=zone.color, label=zone.name)
     ax.set_xlabel("t [s]")
     ax.set_ylabel("nodes")
     ax.set_title("nodes per zone on $\\Gamma_3$")
     ax.legend(fontsize=7)
+
+
+# The paper's segments of Gamma3 (section 5), its presentation of the zones: AB damped and
+# sliding, BC at the bound and sliding, CD sticking in contact (damped or at the bound); a
+# free node is in none. A node's segment comes from its statuses (normal 1 damped, 2 at the
+# bound; tangential 0 stick, 1 slip: docs/design.md, "Statuses and zones"); the counts of a
+# segment over t, which only the zone counts give (summary.txt, contact_history.txt), from
+# the zone columns of those statuses.
+Segment = collections.namedtuple("Segment", "name meaning normal tangential columns color")
+PAPER_SEGMENTS = (
+    Segment("AB", "damped, slip", (1,), (1,), ("zone_damped_slip",), "tab:green"),
+    Segment("BC", "at the bound, slip", (2,), (1,), ("zone_bound_slip",), "tab:orange"),
+    Segment("CD", "stick", (1, 2), (0,), ("zone_damped_stick", "zone_bound_stick"), "tab:purple"))
+PAPER_COLORS = {segment.name: segment.color for segment in PAPER_SEGMENTS}
+
+
+def paper_segments(c):
+    """The paper's segment of each node of a contact.txt, from its statuses ('' for a node in
+    none: a free one)."""
+    normal, tangential = c.codes("normal_status", 0, 2), c.codes("tangential_status", 0, 1)
+    found = np.full(len(normal), "", dtype=object)
+    for segment in PAPER_SEGMENTS:
+        found[np.isin(normal, segment.normal) & np.isin(tangential, segment.tangential)] = segment.name
+    return list(found)
+
+
+def paper_segment_counts(values):
+    """{segment name: its nodes} from zone counts: summary.txt (Values, at T) or the columns of
+    a contact_history.txt (a count per step)."""
+    def count(column):
+        return values.integer(column) if isinstance(values, runfiles.Values) else values[column]
+    return {segment.name: sum(count(column) for column in segment.columns) for segment in PAPER_SEGMENTS}
 
 
 # The energy terms of history.txt (docs/design.md, "Energy identity"): column, label, and

@@ -39,6 +39,7 @@ sys.path.insert(0, os.path.join(os.path.dirname(os.path.dirname(os.path.abspath(
 import numpy as np
 
 import runfiles
+import style
 
 PAPER_AB, PAPER_BC = 15, 29     # paper section 5: zone AB 15 nodes, zone BC 29 nodes
 TAIL = 4                        # the slope is fitted on the TAIL smallest eps
@@ -99,14 +100,15 @@ def zones_table(results):
         s = runfiles.read_summary(folder)
         history = runfiles.read_table(os.path.join(folder, "contact_history.txt"))
         penalty = s["problem"] == "penalty"
+        segments = style.paper_segment_counts(s)
         rows.append([
             name, s["problem"], s.real("eps") if penalty else math.nan, s.real("dt"), mesh_label(s),
-            s.integer("zone_free"), s.integer("zone_damped_slip"), s.integer("zone_bound_slip"),
-            s.integer("zone_damped_stick") + s.integer("zone_bound_stick"),
+            s.integer("contact_nodes") - sum(segments.values()), segments["AB"], segments["BC"], segments["CD"],
             float(history["x_B"][-1]), float(history["x_C"][-1]), PAPER_AB, PAPER_BC])
     path = os.path.join(results, "zones.txt")
     runfiles.write_table(path, ["zones on Gamma3 at T (summary.txt) and zone boundaries at T (last line of contact_history.txt)",
-                             "AB zone_damped_slip, BC zone_bound_slip, CD zone_damped_stick + zone_bound_stick; eps nan for the original problem"],
+                             "; ".join(f"{segment.name} {' + '.join(segment.columns)}" for segment in style.PAPER_SEGMENTS)
+                             + "; free the other contact nodes; eps nan for the original problem"],
                       "run problem eps dt mesh free AB BC CD x_B x_C paper_AB paper_BC".split(), rows)
     print(f"tables.py: zones on Gamma3 at T -> {path}")
     print(f"  {'run':34s} {'eps':>7s} {'dt':>6s} {'mesh':24s} {'free':>4s} {'AB':>3s} {'BC':>3s} {'CD':>3s} {'x_B':>7s} {'x_C':>7s}   paper AB BC")
@@ -147,8 +149,7 @@ def compare_runs(reference, folder):
     difference = velocity_field(folder, xy) - velocity_field(reference, xy)
     same_triangles = run_triangles.shape == triangles.shape and np.array_equal(np.sort(run_triangles, axis=1), np.sort(triangles, axis=1))
     return {"run": folder, "problem": s["problem"], "dt": s.real("dt"),
-            "AB": s.integer("zone_damped_slip"), "BC": s.integer("zone_bound_slip"),
-            "CD": s.integer("zone_damped_stick") + s.integer("zone_bound_stick"),
+            **style.paper_segment_counts(s),
             "max_dv_nu_gamma3": float(np.max(np.abs(contact["v_nu"] - contact_ref["v_nu"]))),
             "max_dv_tau_gamma3": float(np.max(np.abs(contact["v_tau"] - contact_ref["v_tau"]))),
             "max_dv_nodes": float(np.max(np.hypot(difference[:, 0], difference[:, 1]))),
@@ -230,7 +231,7 @@ def eps_study_table(results):
             fail(f"{folder}/contact.txt: not the Gamma3 nodes of {reference}")
         rows.append([s.real("eps"), math.sqrt(consistent_mass_norm2(xy, triangles, difference)),
                      float(np.max(np.abs(contact["v_nu"] - contact_ref["v_nu"]))),
-                     s.integer("zone_damped_slip"), s.integer("zone_bound_slip")])
+                     *(style.paper_segment_counts(s)[name] for name in ("AB", "BC"))])
     if not rows:
         print("tables.py: no eps-study runs; eps_study.txt not written")
         return rows

@@ -4,8 +4,10 @@
 Every comparison with a bound allows for round-off: ROUNDOFF (256 ulps) times the magnitude
 of the terms the compared quantities are computed from (velocity_terms, stress_terms), never
 a fixed tolerance. The law is the run's own: contact.txt carries what it gave each node (g,
-damped_response = p(v_nu), force_scale = p(g) or 1 where p(g) = 0, friction_bound =
-mu p(v_nu), the statuses and zone); nothing here derives p, g(x), a status or a zone again.
+damped_response = p(v_nu), force_scale = p(g) or 1 where p(g) = 0, friction_bound, the
+statuses and zone), and the run's zones are the columns zone_* of its contact_history.txt
+(runfiles.zone_names); nothing here derives p, g(x), the friction bound, a status or a zone
+again.
 """
 import os
 
@@ -55,8 +57,9 @@ class Checker:
         return condition
 
     def load(self):
-        """Read the outputs; False (with the failures) when a file or a column is missing, or
-        the row counts are not those summary.txt announces."""
+        """Read the outputs; False (with the failures) when a file or a column is missing, the
+        row counts are not those summary.txt announces, or its zones (zone_columns: the columns
+        zone_* of contact_history.txt) are not the keys zone_* of summary.txt."""
         for name in FILES:
             if not self.expect(os.path.isfile(os.path.join(self.folder, name)), f"missing {name}"):
                 return False
@@ -88,8 +91,13 @@ class Checker:
             self.expect(name == "contact_history.txt" or bool(np.isfinite(table.data).all()), f"{name} holds non-finite numbers")
             self.expect(str(len(table)) == self.summary[rows],
                         f"{name} has {len(table)} rows, summary.txt says {rows} {self.summary[rows]}")
+        self.zone_columns = runfiles.zone_names(self.ch.columns)
+        self.expect(self.zone_columns, "contact_history.txt has no zone_* column (the zones of the run)")
+        self.expect(runfiles.zone_names(self.summary) == self.zone_columns,
+                    f"summary.txt's zones {' '.join(runfiles.zone_names(self.summary))} are not the columns "
+                    f"{' '.join(self.zone_columns)} of contact_history.txt")
         if not self.failures:
-            for name, high in (("normal_status", 2), ("tangential_status", 1), ("zone", len(runfiles.ZONE_COLUMNS) - 1)):
+            for name, high in (("normal_status", 2), ("tangential_status", 1), ("zone", len(self.zone_columns) - 1)):
                 self.c.codes(name, 0, high)
         return not self.failures
 

@@ -87,6 +87,14 @@ column() {
       for (i = (rows > 0 && rows < n ? n - rows + 1 : 1); i <= n; i++) { split(line[i], f, " "); if (!(f[c] + 0 >= low && f[c] + 0 <= high)) exit 1 }
     }' "$LAB/$run/$file" 2>/dev/null || problem "$name in [$low, $high] in \$LAB/$run/$file${6:+ (last $6 rows)}"
 }
+# named RUN FILE NAME,NAME,...: the named columns of RUN/FILE, one data row a line (exit 1 for a
+# missing file or column)
+named() {
+  awk -v names="$3" '/^#/ { header = $0; next }
+    !started { started = 1; n = split(names, want, ","); m = split(substr(header, 3), h, " ")
+      for (i = 1; i <= n; i++) { pick[i] = 0; for (j = 1; j <= m; j++) if (h[j] == want[i]) pick[i] = j; if (!pick[i]) exit 1 } }
+    { line = ""; for (i = 1; i <= n; i++) line = line (i > 1 ? " " : "") $pick[i]; print line }' "$LAB/$1/$2" 2>/dev/null
+}
 said() { grep -qF -- "$1" "$log" || problem "the output shows '$1'"; }
 zones() { keys "$1" zone_free="$2" zone_damped_slip="$3" zone_damped_stick="$4" zone_bound_slip="$5" zone_bound_stick="$6"; }
 
@@ -102,7 +110,7 @@ zones bound 0 0 0 8 1
 column bound contact.txt lambda_nu 7.4999999 7.5000001
 column bound contact.txt v_nu 0.04999999999 0.05000000001
 column bound contact.txt p_nu 9.9999999 10.0000001
-[ "$(awk '!/^#/ && $8 > 0 { printf "%g", $2; exit }' "$LAB/bound/contact_history.txt" 2>/dev/null)" = 0.25 ] || problem "the column's nodes go from damped to the bound at t = 0.25"
+[ "$(named bound contact_history.txt t,zone_bound_slip | awk '$2 > 0 { printf "%g", $1; exit }')" = 0.25 ] || problem "the column's nodes go from damped to the bound at t = 0.25"
 zones stick 0 0 9 0 0
 column stick contact.txt friction_bound 0.39 0.42
 column stick contact.txt v_tau -1e-14 1e-14
@@ -111,7 +119,8 @@ column stick contact.txt friction_bound 0.415 0.425 1
 zones paper 1 7 0 14 11
 column paper contact.txt p_nu 0 10.3
 # the zone map: no node at the bound at t = 0.2, the first ones at the right end at t = 0.25
-[ "$(awk '!/^#/ && ($2 == 0.2 || $2 == 0.25) { printf "%g %d %s; ", $2, $8 + $9, ($10 == "nan" ? "nan" : ($10 + 0 > 1.9 ? "right" : $10)) }' "$LAB/paper/contact_history.txt" 2>/dev/null)" = "0.2 0 nan; 0.25 2 right; " ] \
+[ "$(named paper contact_history.txt t,zone_bound_slip,zone_bound_stick,x_B \
+      | awk '$1 == 0.2 || $1 == 0.25 { printf "%g %d %s; ", $1, $2 + $3, ($4 == "nan" ? "nan" : ($4 + 0 > 1.9 ? "right" : $4)) }')" = "0.2 0 nan; 0.25 2 right; " ] \
   || problem "the first nodes reach the bound at t = 0.25, at the right end"
 column penalty contact.txt v_nu 0.050149849 0.050149851
 column penalty contact.txt lambda_nu 7.49250 7.49252
@@ -147,8 +156,8 @@ awk '/^error: step [0-9]+ \(t = [0-9.]+\): the contact solver did not converge a
   || problem "without the safeguard the literal row stops with 'did not converge after 50 iterations (iteration cap reached), residual R', R between 1e-10 and 1e-8"
 said "exit status 4"
 # 3. Newton against the fixed point
-[ "$(awk '!/^#/ { printf "%s ", $3 }' "$LAB/solvers/newton/history.txt" 2>/dev/null)" = "2 2 " ] || problem "Newton takes 2 then 2 iterations"
-[ "$(awk '!/^#/ { printf "%s ", $3 }' "$LAB/solvers/fixedpoint/history.txt" 2>/dev/null)" = "15 15 " ] || problem "the fixed point takes 15 and 15 iterations"
+[ "$(named solvers/newton history.txt iterations | tr '\n' ' ')" = "2 2 " ] || problem "Newton takes 2 then 2 iterations"
+[ "$(named solvers/fixedpoint history.txt iterations | tr '\n' ' ')" = "15 15 " ] || problem "the fixed point takes 15 and 15 iterations"
 keys solvers/fixedpoint-T1 iterations_total=323 iterations_max=17 fixed_point_sweeps=646
 awk 'NF == 9 && $1 ~ /\/solvers\/fixedpoint-T1/ { n++; if (!($8 + 0 < 1e-11)) bad = 1 } END { exit bad || n != 1 }' "$log" \
   || problem "the fixed point agrees with Newton to about 1e-12"
@@ -184,7 +193,7 @@ zones ex2/load-2.5 1 17 15 0 0
 zones ex2/load-10 1 7 0 14 11
 zones ex2/load-40 1 3 0 27 2
 column ex2/load-2.5 contact_history.txt normal_force 3.28 3.29 1
-[ "$(tail -n 1 "$LAB/ex2/load-2.5/contact_history.txt" 2>/dev/null | awk '{ print $10 }')" = nan ] || problem "x_B is nan at load 2.5"
+[ "$(named ex2/load-2.5 contact_history.txt x_B | tail -n 1)" = nan ] || problem "x_B is nan at load 2.5"
 column ex2/load-10 contact_history.txt normal_force 13.85 13.86 1
 column ex2/load-40 contact_history.txt normal_force 60.50 60.51 1
 grep -q 'ex3/dt-0.05 - dt-0.025 .* 1\.20$' "$log" && grep -q 'ex3/dt-0.025 - dt-0.0125 .* 1\.12$' "$log" || problem "the orders 1.20 then 1.12"
@@ -192,15 +201,16 @@ for dt in 0.1 0.05 0.025 0.0125; do zones "ex3/dt-$dt" 1 7 0 14 11; done
 # 5. seeing a run
 [ "$(ls "$LAB/see/vtk" 2>/dev/null | grep -c '^fields_[0-9]*\.vtu$')" = 11 ] || problem "11 frames in \$LAB/see/vtk"
 [ -s "$LAB/see/figures/animation.gif" ] || problem "\$LAB/see/figures/animation.gif"
-awk '!/^#/ { u = sqrt($3 * $3 + $4 * $4); if (u > max) max = u } END { exit !(max > 0.14 && max < 0.145) }' "$LAB/see/fields.txt" 2>/dev/null \
+named see fields.txt u_x,u_y | awk '{ u = sqrt($1 * $1 + $2 * $2); if (u > max) max = u } END { exit !(max > 0.14 && max < 0.145) }' \
   || problem "the displacements reach 0.14 m in \$LAB/see"
 for file in paper/figures/contact_at_T.png paper/figures/zone_map.png eps/penalty-1e-2/figures/compare_contact.png; do
   [ -s "$LAB/$file" ] || problem "\$LAB/$file"
 done
 # 6. three dimensions
 zones slide 0 0 0 25 0
-awk '!/^#/ { n++; lt = sqrt($6^2 + $14^2); vt = sqrt($3^2 + $13^2); if (lt < 1 - 1e-9 || lt > 1 + 1e-9 || vt < 0.599 || vt > 0.601) bad = 1 }
-     END { exit bad || n != 25 }' "$LAB/slide/contact.txt" 2>/dev/null || problem "|lambda_tau| = 1 and |v_tau| = 0.6 on the 25 nodes of \$LAB/slide"
+named slide contact.txt lambda_tau,lambda_tau2,v_tau,v_tau2 \
+  | awk '{ n++; lt = sqrt($1^2 + $2^2); vt = sqrt($3^2 + $4^2); if (lt < 1 - 1e-9 || lt > 1 + 1e-9 || vt < 0.599 || vt > 0.601) bad = 1 }
+         END { exit bad || n != 25 }' || problem "|lambda_tau| = 1 and |v_tau| = 0.6 on the 25 nodes of \$LAB/slide"
 said "friction stress (0.7071, 0.7071), length 1.000000"
 said "3D: normal force per unit depth 13.8350, x_B 0.500, x_C 1.375"
 said "2D: normal force 13.8320, x_B 0.500, x_C 1.500"

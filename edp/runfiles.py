@@ -737,7 +737,8 @@ def compare_runs(folder, other, rtol):
     run (its largest g for the velocities, p(g) (force_scale) for the stresses, times the
     contact area for the forces): a column of round-off in both (lambda_nu before any node
     reaches the bound) is compared as such. Zone counts (the columns zone_* of the first run),
-    x_B and x_C must be equal. The histories are compared where both runs have them."""
+    x_B and x_C must be equal. The histories are compared where both runs have them, on the
+    steps both made (a run continued with -restart against the whole run: the later steps)."""
     law = read_table(os.path.join(folder, "contact.txt"))
     g, stress = float(law["g"].max()), float(law["force_scale"].max())
     extra = (lambda *names: names) if run_dimension(folder) == 3 else (lambda *names: ())
@@ -745,6 +746,12 @@ def compare_runs(folder, other, rtol):
 
     def compare(name, families, exact=(), floors=()):
         a, b = read_table(os.path.join(folder, name)), read_table(os.path.join(other, name))
+        if "step" in a and "step" in b and len(a) != len(b):     # a run continued (-restart) against the whole run:
+            common = np.intersect1d(a["step"], b["step"])          # the steps both made
+            if len(common) != min(len(a), len(b)):
+                failures.append(f"{name}: the steps of one run are not a part of the other's vs {other}")
+                return
+            a, b = (Table(t.path, t.params, t.columns, t.data[np.isin(t["step"], common)]) for t in (a, b))
         if a.data.shape != b.data.shape:
             failures.append(f"{name}: shapes differ {a.data.shape} {b.data.shape}")
             return

@@ -42,7 +42,7 @@ rm -rf "$work/late-out" "$work/late-out.before"
 solve "${coarse[@]}" -out "$work/late-out" > /dev/null 2>&1 || status=1
 cp -r "$work/late-out" "$work/late-out.before"
 for fault in 'assert(optionText("T") == "never");' 'real[int] tooShort(2); tooShort[7] = 1;' '{ real[int] kernelWrong(3); contactKernelSolve(kernelWrong, kernelWrong); }'; do
-  for place in 'adaptMesh();' '  recordStep(n, t, v, u, Lam, stepLoad)' 'finishSeries();'; do
+  for place in 'adaptMesh();' '  recordStep(step, t, v, u, Lam, stepLoad)' 'finishSeries();'; do
     cp edp/solve.edp "$faulty/edp/solve.edp"
     awk -v place="$place" -v fault="$fault" '{ print } $0 == place || index($0, place) == 1 { print fault }' edp/solve.edp > "$faulty/edp/solve.edp"
     (cd "$faulty" && bash run.sh solve "${coarse[@]}" -out "$root/$work/late-out") > "$work/late.log" 2>&1

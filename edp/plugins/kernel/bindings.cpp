@@ -19,7 +19,7 @@
 //   contactKernelParameter(string name, real value)  a parameter, by its option name: cnu, mu,
 //       g, eps, problem (0 original, 1 penalty), penaltyform (0 compliant, 1 literal), tol, maxit,
 //       safeguard (0/1), r, dt, ordering (of S's factorization: 0 CAMD, 1 METIS on the
-//       interior), verbose (0/1)
+//       interior), verbose (0/1), step_offset (the steps before the record: a restart)
 //   contactKernelDampingFamily(string name)  the damping family of that name (dampingFamilies
 //       of contactlaw.hpp), -1 if none
 //   contactKernelDampingHasC(int family)  1 if the family's first number is C (-cnu overrides it)
@@ -528,7 +528,7 @@ void writeHistoryRow(Kernel &k, const KN<double> &rec) {
   if (info.N() < solverInfoColumnCount || history.N() < historyColumnCount * n)
     ExecError("contactKernelRecord: the history array holds fewer rows than the steps recorded");
   const long h = historyColumnCount * (n - 1);
-  history[h + HistoryT] = n * k.settings.dt;
+  history[h + HistoryT] = (k.settings.stepOffset + n) * k.settings.dt;   // steps numbered on after a restart
   history[h + HistoryIterations] = info[InfoIterations];
   history[h + HistoryResidual] = info[InfoResidual];
   for (int c = 0; c < recordColumnCount; c++) history[h + historyRecordStart + c] = rec[c];

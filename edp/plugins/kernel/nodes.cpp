@@ -3,6 +3,7 @@
 // here, when a run starts), the observation v -> (v_nu, v_tau) of every node, its frames (3D).
 #include <algorithm>
 #include <cfloat>
+#include <cmath>
 #include <cstdio>
 #include <utility>
 #include "kernel.hpp"
@@ -28,6 +29,10 @@ void setParameter(Kernel &k, const std::string &name, double given) {
     else if (name == "safeguard") settings.safeguards = value != 0;
     else if (name == "r") settings.r = value;
     else if (name == "dt") settings.dt = value;
+    else if (name == "step_offset") {
+      if (!(value >= 0 && value <= 1e9 && value == std::floor(value))) kernelError("contactKernelParameter: step_offset must be a whole number >= 0");
+      settings.stepOffset = (long)value;
+    }
     else if (name == "verbose") settings.verbose = value != 0;
     else if (name == "ordering") settings.ordering = (int)value;
     else kernelError("contactKernelParameter: unknown parameter '" + name + "'");

@@ -342,6 +342,8 @@ def read_summary(path):
         if line.startswith("#") or not line.strip():
             continue
         words = line.split(None, 1)
+        if words[0] in summary:
+            raise InputError(f"{shown(path)}: the key {shown(words[0])} is given twice")
         summary[words[0]] = words[1].strip() if len(words) > 1 else ""
     return summary
 

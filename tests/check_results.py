@@ -393,10 +393,21 @@ def zone_counts(text):
     return [int(w) for w in words]
 
 
+def tolerance(text):
+    """--rtol: a number > 0 and below 1 (a relative tolerance)."""
+    try:
+        value = float(text)
+    except ValueError:
+        value = float("nan")
+    if not 0 < value < 1:
+        raise argparse.ArgumentTypeError(f"'{text}' is not a relative tolerance: a number > 0 and < 1")
+    return value
+
+
 def main():
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("folder")
-    parser.add_argument("--rtol", type=float, default=1e-9, help="tolerance of every check (relative)")
+    parser.add_argument("--rtol", type=tolerance, default=1e-9, help="tolerance of every check (relative, > 0 and < 1)")
     parser.add_argument("--zones", type=zone_counts, help="expected node count of each zone at T, in the order of "
                         "the zone codes (the columns zone_* of contact_history.txt)")
     parser.add_argument("--column", action="store_true", help="check the column scene's known answer")
@@ -404,6 +415,9 @@ def main():
                         "sliding at the bound: the disk law, the total friction force, the block's momentum)")
     parser.add_argument("--compare", help="another output folder that must agree to --rtol")
     args = parser.parse_args()
+    runfiles.run_folder(args.folder)              # a finished run (summary.txt, run.complete), else one line
+    if args.compare:
+        runfiles.run_folder(args.compare)
     check = Checks(args.folder)
     if check.load():
         if args.column:

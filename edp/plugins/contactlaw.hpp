@@ -75,6 +75,9 @@ inline std::string powerCheck(const std::vector<double> &x) {
 inline double keptBetween(double y0, double y1, double s) {
   return std::min(std::max((1 - s) * y0 + s * y1, std::min(y0, y1)), std::max(y0, y1));
 }
+// Where x lies from x0 to x1 (x0 < x1), as a fraction: halved first, so that knots whose
+// distance overflows (-1e308 to 1e308) still give it
+inline double fractionBetween(double x0, double x1, double x) { return (0.5 * x - 0.5 * x0) / (0.5 * x1 - 0.5 * x0); }
 
 // damping table r0 p0 r1 p1 ...: p piecewise linear through the points (numbers: r0 p0 r1 p1
 // ...), from (0, 0), nondecreasing, extended past the last point by its slope. At r > 0, the
@@ -97,7 +100,7 @@ inline double tableResponse(const Parameters &P, double r) {
   const double *point = P.numbers.data() + 2 * k;
   const double r0 = point[0], r1 = point[2], p0 = point[1], p1 = point[3];
   if (r > r1) return p1 + tableSlope(P, r) * (r - r1);
-  return keptBetween(p0, p1, (r - r0) / (r1 - r0));
+  return keptBetween(p0, p1, fractionBetween(r0, r1, r));
 }
 inline std::string tableCheck(const std::vector<double> &x) {
   const int points = (int)x.size() / 2;
@@ -153,7 +156,7 @@ inline double velocityBound(const Parameters &P, double x) {
   if (X.empty()) return P.g;
   if (x <= X[0]) return G[0];
   for (size_t k = 1; k < X.size(); k++)
-    if (x <= X[k]) return keptBetween(G[k - 1], G[k], (x - X[k - 1]) / (X[k] - X[k - 1]));
+    if (x <= X[k]) return keptBetween(G[k - 1], G[k], fractionBetween(X[k - 1], X[k], x));
   return G.back();
 }
 
@@ -498,12 +501,26 @@ struct Slots {
   }
 };
 
+// The zones' names are the outputs' column names zone_NAME: each a word of lowercase letters,
+// digits and '_', all different. "" if so, else why not (checkLaw; the scripts ask first,
+// contactKernelZoneProblem, before they name the columns).
+inline std::string zoneNamesProblem() {
+  for (int z = 0; z < zoneCount; z++) {
+    const std::string name = zoneNames[z], index = std::to_string(z);
+    if (name.empty() || name.find_first_not_of("abcdefghijklmnopqrstuvwxyz0123456789_") != std::string::npos)
+      return "zoneNames[" + index + "] = '" + name + "' is not a name of lowercase letters, digits and '_'";
+    for (int y = 0; y < z; y++)
+      if (name == zoneNames[y]) return "zoneNames[" + std::to_string(y) + "] and zoneNames[" + index + "] are both '" + name + "'";
+  }
+  return "";
+}
+
 // Is the law above one the solvers can use? 0 if so; otherwise 1 and a sentence in why.
 // Checked when a run starts, on 65 points r of [-g, 8g] (the range a run's velocities reach;
 // a law can only be sampled): p(r) = p'(r) = 0 for r <= 0; p finite and nondecreasing; the
 // friction bound finite and >= 0; each slope equal to the difference quotient on its left,
 // its right or across r (a kink at r takes the slope on its left); the statuses and zones in
-// their ranges; the force scale p(g) 0 or at least 1e-150 (the residual weighs a stress by
+// their ranges, the zones' names words of their own; the force scale p(g) 0 or at least 1e-150 (the residual weighs a stress by
 // 1/p(g), Slots::setAugmentation).
 inline int checkLaw(const Parameters &P, double g, std::string &why) {
   auto text = lawNumber;
@@ -555,6 +572,8 @@ inline int checkLaw(const Parameters &P, double g, std::string &why) {
       return 1;
     }
   }
+  why = zoneNamesProblem();
+  if (!why.empty()) return 1;
   for (int normal = 0; normal <= 2; normal++)
     for (int tangential = 0; tangential <= 1; tangential++)
       if (zone(normal, tangential) < 0 || zone(normal, tangential) >= zoneCount) {

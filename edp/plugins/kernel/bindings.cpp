@@ -44,6 +44,7 @@
 //   contactKernelNodeBounds(real[int] g)  each node's velocity bound g (the law's)
 //   contactKernelDampingSlope(real[int] Kn)  Kn per slot (p'(g) on normal slots), folded into S
 //   contactKernelZones()  how many zones the law has (contactlaw.hpp, zone)
+//   contactKernelZoneProblem(0)  why the zones' names cannot name columns ("" if they can)
 //   contactKernelZoneName(int z)  zone z's name, as the outputs spell it (free, damped_slip, ...)
 // S and the back-substitutions (factorization.cpp, products.cpp)
 //   contactKernelFactorize(matrix S, matrix C)  returns 0, or 1 (S not positive definite),
@@ -232,6 +233,7 @@ long nodeBounds(KN<double> *const &pg) {
   return 0;
 }
 long zones() { return contactlaw::zoneCount; }
+string *zoneProblem(Stack stack, const long &) { return newString(stack, contactlaw::zoneNamesProblem()); }
 string *zoneName(Stack stack, const long &z) {
   if (z < 0 || z >= contactlaw::zoneCount) ExecError("contactKernelZoneName: no zone " + std::to_string(z));
   return newString(stack, contactlaw::zoneNames[z]);
@@ -649,6 +651,7 @@ static void Load_Init() {
   Global.Add("contactKernelNodes", "(", new OneOperator5_<long, Array, Array, Integers, Integers, Integers>(nodes));
   Global.Add("contactKernelNodeBounds", "(", new OneOperator1_<long, Array>(nodeBounds));
   Global.Add("contactKernelZones", "(", new OneOperator0<long>(zones));
+  Global.Add("contactKernelZoneProblem", "(", new OneOperator1s_<string *, long>(zoneProblem));
   Global.Add("contactKernelZoneName", "(", new OneOperator1s_<string *, long>(zoneName));
   Global.Add("contactKernelLawProblem", "(", new OneOperator1s_<string *, string *>(lawProblem));
   Global.Add("contactKernelNodeVelocity", "(", new OneOperator1_<long, Matrix>(nodeVelocity));

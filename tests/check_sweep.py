@@ -7,8 +7,8 @@ sweep.txt must read (edp/runfiles.py, read_table): its header names the sweep's 
 and 'swept NAME', its rows are the values V1,V2,... in that order. A row of a value given
 with --failed is 'failed' with the solve's exit code CODE, nan in every quantity of the run,
 a finite wall time, no run folder and a log DIR/RUN.log; every other row is 'ok', exit code
-0, and its run folder DIR/RUN (a finished run: run.complete) echoes NAME = the value in its
-summary.txt and holds the row's numbers: normal_force, tangential_force, x_B and x_C of the
+0, and its run folder DIR/RUN (a finished run: run.complete) echoes NAME = the value in the
+header of its files and holds the row's numbers: normal_force, tangential_force, x_B and x_C of the
 last line of its contact_history.txt, every zone_* key of its summary.txt (a column of that
 name; a zone column the run lacks is nan), iterations_total and iterations_max; wall_time
 finite and positive. sweep.png is a PNG file; sweep.complete lists exactly the other
@@ -85,7 +85,7 @@ def main():
         except runfiles.InputError as error:
             problems.append(f"{where}: {error}")
             continue
-        echoed = summary[name]
+        echoed = history.params.get(name, "(not echoed)")      # (the '# NAME VALUE' lines: the options used)
         try:
             used = echoed == row["value"] or same(echoed, row["value"])
         except ValueError:                          # (words: a choice, a scene)

@@ -128,9 +128,9 @@ rm "$work/sweep-mu/notes.txt"
 ./run.sh sweep -mu 0.3,0.5 "${coarse_options[@]}" -out "$work/sweep-mu" > /dev/null 2>> "$diag" || { echo "the second sweep failed" >> "$diag"; status=1; }
 "$PYTHON" tests/check_sweep.py "$work/sweep-mu" mu 0.3,0.5 >> "$diag" 2>&1 || status=1
 [ -z "$(sweep_left "$work/sweep-mu")" ] && ! compgen -G "$work/sweep-mu.kept.*" > /dev/null || { echo "the replaced sweep left folders" >> "$diag"; status=1; }
-# one at a time: a sweep of 100-step runs, one by one; while it runs (its sweep-one.partial.PID
+# one at a time: a sweep of 200-step runs, one by one; while it runs (its sweep-one.partial.PID
 # is there), another sweep and a run on the same folder are refused, naming its process
-./run.sh sweep -mu 0.2,0.4,0.6 -nx 8 -ny 4 -dt 0.01 -jobs 1 -out "$work/sweep-one" > /dev/null 2> "$work/sweep-one.err" &
+./run.sh sweep -mu 0.2,0.4,0.6 -nx 8 -ny 4 -dt 0.005 -jobs 1 -out "$work/sweep-one" > /dev/null 2> "$work/sweep-one.err" &
 first=$!
 for _ in $(seq 200); do compgen -G "$work/sweep-one.partial.*" > /dev/null && break; sleep 0.05; done
 rc=0; ./run.sh sweep -mu 0.1 "${coarse_options[@]}" -out "$work/sweep-one" > /dev/null 2> "$work/sweep-two.err" || rc=$?
@@ -153,6 +153,7 @@ rc=0; wait "$first" || rc=$?
   || { echo "a stopped sweep: exit $rc:" >> "$diag"; cat "$work/sweep-stop.err" >> "$diag"; status=1; }
 sweep_tree "$work/sweep-one" | cmp -s - "$work/sweep-before" || { echo "the stopped sweep changed $work/sweep-one" >> "$diag"; status=1; }
 [ -z "$(sweep_left "$work/sweep-one")" ] || { echo "the stopped sweep left $(sweep_left "$work/sweep-one")" >> "$diag"; status=1; }
+pgrep -fa "sweep-one\.partial" >> "$diag" && { echo "runs of the stopped sweep still run" >> "$diag"; status=1; }
 report $status "sweep folder: a folder of the user's or a run's, or a sweep holding a file of the user's, is refused untouched (exit 7); a finished sweep is replaced whole; a second sweep or a run on it meanwhile exits 7 naming the process; a signal leaves it as it was" "$diag"
 rm -rf "$work"/sweep-*
 # ---- end sweep

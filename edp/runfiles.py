@@ -359,6 +359,24 @@ def run_folder(folder):
     return folder
 
 
+def completed_files(folder, marker="run.complete"):
+    """The names a folder's marker file lists, one a line after its signature line: run.complete
+    (written last by edp/solve.edp: the run's files, those of vtk/ as vtk/NAME) or
+    sweep.complete (plots/sweep.py: the entries of a sweep folder). None when the folder has
+    no such file written by the suite (a regular file whose first line starts '# MARKER:');
+    names with '..' or an empty part are left out (no list can name a file elsewhere)."""
+    path = os.path.join(folder, marker)
+    if not os.path.isfile(path) or os.path.islink(path):
+        return None
+    try:
+        lines = read_lines(path)
+    except InputError:
+        return None
+    if not lines or not lines[0].startswith(f"# {marker}:"):
+        return None
+    return [line for line in lines[1:] if line and all(part not in ("", ".", "..") for part in line.split("/"))]
+
+
 def run_dimension(folder):
     """2 or 3: the 'dimension' line of the run's summary.txt."""
     summary = read_summary(folder)

@@ -151,4 +151,37 @@ for case in "run_figures contact.txt 13 nan contact.txt:[0-9]+: v_tau2 = nan is 
   [ -e "$broken/figures" ] && { echo "$file: $broken/figures left behind" >> "$diag"; status=1; }
 done
 report $status "a 3D run: every figure, the comparison with a 2D run and the animation (PNG, GIF); corrupt 3D inputs refused" "$diag"
+# Round-off is drawn flat (docs/figures.md, "Round-off is drawn flat"): the figures of a column
+# whose v_nu is g at every node at T (to round-off), of a column pulled off the foundation
+# (every node free, its stresses round-off of 0), and of both in 3D; every axis checked on the
+# figures' matplotlib objects (tests/figure_axes.py): none with an offset text, each one in
+# m/s, GPa, GPa m or GN spanning at least a thousandth of the run's g, p(g) (mu p(g)), p(g)
+# times the area of Gamma3. The runs' premises are checked first.
+diag="$work/figures-flat.diag"; : > "$diag"; status=0
+flat="$work/figures-flat" free="$work/figures-free" flat3d="$work/figures-flat3d" free3d="$work/figures-free3d"
+rm -rf "$flat" "$free" "$flat3d" "$free3d"
+solve -scene column -vtk 5 -quiet -out "$flat" >> "$diag" 2>&1 || { echo "the flat column failed" >> "$diag"; status=1; }
+solve -scene tests/scenes/column-history.scene -T 0.8 -rho 2e-3 -vtk 4 -quiet -out "$free" >> "$diag" 2>&1 \
+  || { echo "the pulled column failed" >> "$diag"; status=1; }
+solve -scene column3d -quiet -out "$flat3d" >> "$diag" 2>&1 || { echo "the flat 3D column failed" >> "$diag"; status=1; }
+solve -scene column3d -load -2 -T 0.2 -rho 2e-3 -quiet -out "$free3d" >> "$diag" 2>&1 \
+  || { echo "the pulled 3D column failed" >> "$diag"; status=1; }
+"$PYTHON" - "$flat" "$flat3d" "$free" "$free3d" >> "$diag" 2>&1 <<'PY' || status=1
+import sys
+sys.path.insert(0, "edp")
+import runfiles
+for folder, flat in zip(sys.argv[1:], (True, True, False, False)):
+    c = runfiles.read_table(folder + "/contact.txt")
+    if flat:      # every node at the bound: v_nu = g to round-off
+        assert (c["normal_status"] == 2).all() and abs(c["v_nu"] - c["g"]).max() <= 1e-9 * c["g"].max(), folder
+    else:         # every node free: p(v_nu) = 0, its stresses round-off of 0
+        assert (c["normal_status"] == 0).all() and abs(c["p_nu"]).max() <= 1e-9 * c["force_scale"].max(), folder
+PY
+"$PYTHON" tests/figure_axes.py "$flat" "$free" "$flat3d" "$free3d" >> "$diag" 2>&1 || status=1
+"$PYTHON" tests/figure_axes.py "$flat3d" "$flat" >> "$diag" 2>&1 || status=1          # compare_contact, 3D first
+for run in "$flat" "$free"; do
+  "$PYTHON" tests/figure_axes.py --paper "$run" >> "$diag" 2>&1 || status=1
+done
+report $status "round-off drawn flat: v_nu = g and an all-free Gamma3 (2D, 3D, the paper's figures, the animation): no offset, every axis spans a thousandth of g, p(g), p(g) |Gamma3|" "$diag"
+
 # ---- end figures

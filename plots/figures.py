@@ -62,6 +62,7 @@ def fig2_deformed(results, out):
         ax.set_xlabel("x [m]")
         ax.legend(loc="upper right")
     axes[0].set_ylabel("y [m]")
+    style.note_versions(fig, paper_runs(results))
     return style.save(fig, out, "fig2_deformed")
 
 
@@ -82,6 +83,7 @@ def fig3_contact_reactions(results, out):
         ax.legend(loc="center right", fontsize=8)   # the band between p(g) and lambda_nu on CD is empty
     axes[0].set_ylabel("stress [GPa]")
     style.least_span(axes[0], paper_scales(results).stress)     # (the axes share y)
+    style.note_versions(fig, paper_runs(results))
     return style.save(fig, out, "fig3_contact_reactions")
 
 
@@ -120,6 +122,7 @@ def fig4_velocities(results, out):
     style.least_span(axes[0], paper_scales(results).velocity)
     bottom = axes[0].get_ylim()[0]                        # of both curves: the axes are shared
     axes[0].set_ylim(top=max(1.25 * g, bottom + (g - bottom) / 0.86))    # g at most 86 % up: the labels above
+    style.note_versions(fig, paper_runs(results))
     fig.tight_layout()
     for ax, found, texts, _ in labels:
         gamma3.label_stretches(ax, found, texts, (0.93, 0.885, 0.84))
@@ -181,6 +184,7 @@ def fig5_penalty_convergence(results, out, shown=(1e-1, 1e-2, 1e-3, 1e-5)):
     right.set_xlabel(r"penalty parameter $\varepsilon$")
     right.set_ylabel(r"$\|v_\varepsilon - v\|_{L^2(\Omega)}$, consistent mass matrix [m$^2$/s]")
     right.legend(loc="lower right")
+    style.note_versions(fig, [os.path.join(results, "paper-original")] + [runs[eps] for eps in sorted(runs, reverse=True)])
     return style.save(fig, out, "fig5_penalty_convergence")
 
 
@@ -221,6 +225,7 @@ def contact_forces_history(results, out):
         ax.set_ylabel("force per unit thickness [GPa m]")
         ax.legend()
         style.least_span(ax, paper_scales(results).force)
+    style.note_versions(fig, paper_runs(results))
     return style.save(fig, out, "contact_forces_history")
 
 
@@ -243,6 +248,7 @@ def energy_history(results, out):
     right.set_ylabel("|balance| / largest term")
     right.legend()
     style.log_floor(left, largest)
+    style.note_versions(fig, paper_runs(results))
     return style.save(fig, out, "energy_history")
 
 
@@ -270,6 +276,7 @@ def zone_boundaries(results, out):
     right.set_ylabel("nodes")
     right.legend(fontsize=7)
     style.least_span(left, gamma3_length(*tables))
+    style.note_versions(fig, paper_runs(results))
     return style.save(fig, out, "zone_boundaries")
 
 
@@ -361,6 +368,7 @@ def scene_bound_profile(results, out):
     right.legend(fontsize=7)
     style.least_span(left, style.scales(c, pc).velocity)
     style.least_span(right, gamma3_length(c, pc))
+    style.note_versions(fig, [folder, paper])
     return style.save(fig, out, "scene_bound_profile")
 
 
@@ -402,6 +410,7 @@ def scene_power_damping(results, out):
     style.least_span(left, scales.velocity, "x")
     style.least_span(left, scales.stress)
     style.least_span(right, scales.velocity)
+    style.note_versions(fig, [folder, paper])
     return style.save(fig, out, "scene_power_damping")
 
 

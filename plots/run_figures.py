@@ -160,8 +160,12 @@ def contact_at_T(run):
 
 
 def compare_contact(runs):
-    """The contact quantities at T of several runs, overlaid (into the first run's figures/)."""
-    return contact_panels(f"contact on $\\Gamma_3$ at T: {', '.join(run.name for run in runs)}", runs, False)
+    """The contact quantities at T of several runs, overlaid (into the first run's figures/);
+    the title says so when the runs were made by different versions of the suite
+    (style.versions_note)."""
+    note = style.versions_note([run.folder for run in runs], [run.name for run in runs])
+    title = f"contact on $\\Gamma_3$ at T: {', '.join(run.name for run in runs)}"
+    return contact_panels(title + (f"\n{style.plain_text(note)}" if note else ""), runs, False)
 
 
 def histories(run):

@@ -129,6 +129,39 @@ def log_floor(ax, largest, decades=ENERGY_DECADES):
         ax.set_ylim(bottom=largest * 10.0 ** -decades)
 
 
+def versions_note(folders, names=None):
+    """'runs made by different versions of the suite: A (v1); B (v2)' when the summary.txt of
+    the run folders (named by names, by default their folders' names) give different
+    suite_version values, the runs of one version together ('A, C (v1); B (v2)'; a run that
+    gives none: 'no suite_version'); '' when they agree, or when none gives one (runs made
+    before the suite recorded its version)."""
+    names = names or [os.path.basename(os.path.normpath(os.path.abspath(folder))) for folder in folders]
+    versions = [runfiles.read_summary(folder).get("suite_version") for folder in folders]
+    if len(set(versions)) < 2:
+        return ""
+    groups = {}
+    for name, version in zip(names, versions):
+        groups.setdefault(version, []).append(runfiles.shown(name, 40))
+    return "runs made by different versions of the suite: " + "; ".join(
+        f"{', '.join(group)} ({runfiles.shown(version, 40) if version is not None else 'no suite_version'})"
+        for version, group in groups.items())
+
+
+def plain_text(text):
+    """Text that matplotlib draws as it is (a '$' not taken for mathtext)."""
+    return text.replace("$", "\\$")
+
+
+def note_versions(fig, folders, names=None):
+    """The figure's title says so (versions_note) when the runs it draws were made by
+    different versions of the suite."""
+    import textwrap
+    note = versions_note(folders, names)
+    if note:
+        lines = textwrap.wrap(plain_text(note), int(fig.get_figwidth() * 14))     # about 14 characters an inch
+        fig.suptitle("\n".join(lines), color="tab:red", fontsize=9)
+
+
 def problem_label(params):
     """'original problem' or 'penalty problem, eps = ...' from a file's parameter lines."""
     if params.get("problem") == "penalty":

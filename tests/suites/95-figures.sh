@@ -184,4 +184,46 @@ for run in "$flat" "$free"; do
 done
 report $status "round-off drawn flat: v_nu = g and an all-free Gamma3 (2D, 3D, the paper's figures, the animation): no offset, every axis spans a thousandth of g, p(g), p(g) |Gamma3|" "$diag"
 
+# Runs made by different versions of the suite (summary.txt: suite_version) drawn or compared
+# together: compare_contact.png's title, the paper's figures and tables.py --compare say so;
+# with the same version, or none, nothing is said.
+diag="$work/figures-versions.diag"; : > "$diag"; status=0
+va="$work/figures-version-a" vb="$work/figures-version-b"
+rm -rf "$va" "$vb"; cp -r "$flat" "$va"; cp -r "$flat" "$vb"; rm -rf "$va/figures" "$vb/figures"
+for version in none same different; do
+  sed -i '/^suite_version /d' "$va/summary.txt" "$vb/summary.txt"
+  case $version in
+    same) echo "suite_version 1.0" | tee -a "$va/summary.txt" >> "$vb/summary.txt" ;;
+    different) echo "suite_version 1.0" >> "$va/summary.txt"; echo "suite_version 2.0-test" >> "$vb/summary.txt" ;;
+  esac
+  "$PYTHON" - "$va" "$vb" "$version" >> "$diag" 2>&1 <<'PY' || status=1
+import os, sys, tempfile
+sys.path[:0] = ["edp", "plots"]
+import figures, run_figures, style
+a, b, version = sys.argv[1:]
+expected = {"compare_contact": "figures-version-a (1.0); figures-version-b (2.0-test)",   # the runs' folders
+            "fig4": "paper-original (1.0); paper-penalty (2.0-test)"}                    # (the names in DIR)
+title = run_figures.compare_contact([run_figures.Run(a), run_figures.Run(b)]).axes[0].get_title()
+drawn = []
+style.save = lambda fig, out, name, tight_layout=True: drawn.append(fig)
+with tempfile.TemporaryDirectory() as results:
+    os.symlink(os.path.abspath(a), os.path.join(results, "paper-original"))
+    os.symlink(os.path.abspath(b), os.path.join(results, "paper-penalty"))
+    figures.fig4_velocities(results, results)
+suptitle = drawn[0]._suptitle.get_text().replace("\n", " ") if drawn[0]._suptitle else ""
+for where, text in (("compare_contact", title), ("fig4", suptitle)):
+    if version == "different":
+        assert "runs made by different versions of the suite: " + expected[where] in text, f"{version}: {where}: {text!r}"
+    else:
+        assert "different versions" not in text, f"{version}: {where}: {text!r}"
+PY
+  "$PYTHON" plots/tables.py --compare "$va" "$vb" > "$work/figures-versions.log" 2>> "$diag" || status=1
+  if [ "$version" = different ]; then
+    grep -q "^tables.py: note: runs made by different versions of the suite: .*figures-version-a (1.0); .*figures-version-b (2.0-test)$" \
+      "$work/figures-versions.log" || { echo "$version: tables.py --compare said no note:" >> "$diag"; cat "$work/figures-versions.log" >> "$diag"; status=1; }
+  else
+    grep -q "different versions" "$work/figures-versions.log" && { echo "$version: tables.py --compare noted versions" >> "$diag"; status=1; }
+  fi
+done
+report $status "runs of different suite_version drawn or compared together: compare_contact, the paper's figures and tables.py --compare say so (same or no version: nothing)" "$diag"
 # ---- end figures

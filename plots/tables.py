@@ -18,6 +18,9 @@ choices.txt).
 prints the differences at T between successive runs (RUN1 - RUN2, RUN2 - RUN3, ...),
 e.g. runs with halved time steps, and the observed order of convergence
 log(d_i/d_i+1)/log(dt_i/dt_i+1) of max|dv_nu| on Gamma3, which needs no exact solution.
+When the runs compared were made by different versions of the suite (the suite_version of
+their summary.txt), a line says so first ("tables.py: note: runs made by different versions
+of the suite: ..."); nothing is said when they agree or give none.
 
 The files are plain text: '#' header lines (key value), then one '#' line naming the
 columns; floats are written with repr (full precision), rows in a fixed order.
@@ -277,6 +280,9 @@ def main():
                 fail(f"{runfiles.shown(folder)} is a 3D run: tables.py compares 2D runs (triangles, v_x v_y); compare 3D runs "
                      "with /usr/bin/python3 tests/check_results.py RUN --compare REF --rtol R, "
                      "which reads every column (v_tau2, v_z) and prints them with --rtol 0")
+        note = style.versions_note(folders, [runfiles.shown(folder) for folder in folders])
+        if note:
+            print(f"tables.py: note: {note}")
         if args.compare:
             print(f"tables.py: differences at T from {folders[0]}")
             print_comparison([compare_runs(folders[0], folder) for folder in folders[1:]])
@@ -288,6 +294,10 @@ def main():
         return
     if not os.path.isdir(args.results):
         fail(f"no folder {runfiles.shown(args.results)}")
+    runs = run_folders(args.results)
+    note = style.versions_note([folder for _, folder in runs], [name for name, _ in runs])
+    if note:
+        print(f"tables.py: note: {note}")
     zones_table(args.results)
     eps_study_table(args.results)
     choices_table(args.results)

@@ -1,10 +1,11 @@
 # Three dimensions.
 # Sourced by tests/run_tests.sh, in the order of the file names: it uses the harness's
 # variables and functions (solve, report, work, FREEFEM, PYTHON, coarse_options, ...).
-# ---- 3D (docs/design.md, "Three dimensions"): the disk law on the three Newtons and the
-# fixed point, the slab against the 2D plane-strain solution, a 3D run that repeats itself
+# ---- 3D (docs/design.md, "Three dimensions"): the disk law (and a bound_table) on the three
+# Newtons and the fixed point, the slab against the 2D plane-strain solution, a 3D run that repeats itself
 scene_agreement slide3d -scene oblique-slide3d
 scene_agreement slab3d-coarse -scene slab3d -nx 8 -ny 4 -nz 1 -T 0.2
+scene_agreement table3d -scene bound-table3d
 diag="$work/fixedpoint3d.diag"; : > "$diag"; status=0
 for name in slide3d slab3d-coarse; do
   opts=(-scene oblique-slide3d); [ "$name" = slab3d-coarse ] && opts=(-scene slab3d -nx 8 -ny 4 -nz 1 -T 0.2)

@@ -31,12 +31,17 @@
 //       scene line gives them; C itself comes with contactKernelParameter("cnu", ...))
 //   contactKernelBoundProfile(real[int] x, real[int] g)  the scene's bound_profile (x
 //       increasing; empty arrays: none, g is contactKernelParameter("g", ...) everywhere)
-//   contactKernelNodes(real[int] x, real[int] w, int[int] normalSlot, int[int] tangentSlot,
-//       int[int] tangentSlot2)  the contact nodes: abscissa (each node's velocity bound g is the
-//       law's at x, velocityBound of contactlaw.hpp), weight, slots (-1: none; tangentSlot2, the second tangential slot of a 3D node, makes a pair
+//   contactKernelBoundTable(string axes, real[int] a, real[int] b, real[int] g)  the scene's
+//       bound_table: its axes ("xz": any two of x, y, z), its grid along each (increasing) and
+//       its values row by row (g[i b.n + j] at (a_i, b_j)); empty arrays: none (not both a
+//       profile and a table)
+//   contactKernelNodes(real[int] x, real[int] y, real[int] z, real[int] w, int[int] normalSlot,
+//       int[int] tangentSlot, int[int] tangentSlot2)  the contact nodes: position (z = 0 in 2D;
+//       each node's velocity bound g is the law's there, velocityBound of contactlaw.hpp),
+//       weight, slots (-1: none; tangentSlot2, the second tangential slot of a 3D node, makes a pair
 //       with tangentSlot under the disk law, or is alone where a Dirichlet condition fixes the
-//       first tangent); returns 1 if the law of contactlaw.hpp is unusable (checkLaw; then
-//       contactKernelLawProblem(string prefix) gives prefix + the reason)
+//       first tangent); returns 1 if the law of contactlaw.hpp or its bound is unusable
+//       (checkBound, checkLaw; then contactKernelLawProblem(string prefix) gives prefix + the reason)
 //   contactKernelNodeVelocity(matrix O)  v -> (v_nu, v_tau) of every node (rows 2i, 2i + 1; in
 //       3D (v_nu, v_tau, v_tau2), rows 3i, 3i + 1, 3i + 2): what the nodes report
 //   contactKernelNodeFrames(real[int,int] frame, real[int] mean)  3D: each node's n, t1, t2 and
@@ -218,14 +223,20 @@ long boundProfile(KN<double> *const &px, KN<double> *const &pg) {
   return 0;
 }
 
-long nodes(KN<double> *const &px, KN<double> *const &pw, KN<long> *const &pns, KN<long> *const &pts, KN<long> *const &pts2) {
+long boundTable(string *const &axes, KN<double> *const &pa, KN<double> *const &pb, KN<double> *const &pg) {
+  setBoundTable(kernel(), *axes, copyOf(*pa), copyOf(*pb), copyOf(*pg));
+  return 0;
+}
+
+long nodes(KN<double> *const &px, KN<double> *const &py, KN<double> *const &pz, KN<double> *const &pw, KN<long> *const &pns,
+           KN<long> *const &pts, KN<long> *const &pts2) {
   const int nn = px->N();
-  if (pw->N() != nn || pns->N() != nn || pts->N() != nn || pts2->N() != nn)
+  if (py->N() != nn || pz->N() != nn || pw->N() != nn || pns->N() != nn || pts->N() != nn || pts2->N() != nn)
     ExecError("contactKernelNodes: wrong argument sizes");
-  std::vector<double> x = copyOf(*px), w = copyOf(*pw);
+  std::vector<double> x = copyOf(*px), y = copyOf(*py), z = copyOf(*pz), w = copyOf(*pw);
   std::vector<long> ns(nn), ts(nn), ts2(nn);
   for (int i = 0; i < nn; i++) { ns[i] = (*pns)[i]; ts[i] = (*pts)[i]; ts2[i] = (*pts2)[i]; }
-  return setNodes(kernel(), nn, x.data(), w.data(), ns.data(), ts.data(), ts2.data());
+  return setNodes(kernel(), nn, x.data(), y.data(), z.data(), w.data(), ns.data(), ts.data(), ts2.data());
 }
 long nodeBounds(KN<double> *const &pg) {
   requireNodes(kernel(), "contactKernelNodeBounds");
@@ -648,7 +659,8 @@ static void Load_Init() {
   Global.Add("contactKernelDampingText", "(", new OneOperator1s_<string *, string *>(dampingText));
   Global.Add("contactKernelDamping", "(", new OneOperator2_<long, long, Array>(damping));
   Global.Add("contactKernelBoundProfile", "(", new OneOperator2_<long, Array, Array>(boundProfile));
-  Global.Add("contactKernelNodes", "(", new OneOperator5_<long, Array, Array, Integers, Integers, Integers>(nodes));
+  Global.Add("contactKernelBoundTable", "(", new OneOperator4_<long, string *, Array, Array, Array>(boundTable));
+  Global.Add("contactKernelNodes", "(", new OneOperator7_<long, Array, Array, Array, Array, Integers, Integers, Integers>(nodes));
   Global.Add("contactKernelNodeBounds", "(", new OneOperator1_<long, Array>(nodeBounds));
   Global.Add("contactKernelZones", "(", new OneOperator0<long>(zones));
   Global.Add("contactKernelZoneProblem", "(", new OneOperator1s_<string *, long>(zoneProblem));

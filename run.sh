@@ -69,6 +69,7 @@ build_plugin() { # build_plugin NAME "SOURCES..." [LIBRARIES...]: (re)build edp/
   # the compiler flags are part of what was built: another KERNEL_CXXFLAGS rebuilds
   [ -f "$target" ] && [ "$(cat "$target.cksum" 2>/dev/null)" = "$sum $KERNEL_CXXFLAGS" ] && return 0
   mkdir -p "$PLUGINS/build"
+  echo "run.sh: building $target (its sources changed; up to a minute)" >&2
   local tmp="$target.$$" saved compiler
   saved="$(trap -p TERM INT HUP)"
   # (the plugin compares its sources with these at run time: PLUGIN_SOURCES, PLUGIN_SOURCES_CKSUM)

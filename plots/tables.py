@@ -278,8 +278,9 @@ def main():
                 fail(f"no run in {runfiles.shown(folder)}")
             if runfiles.run_dimension(folder) == 3:
                 fail(f"{runfiles.shown(folder)} is a 3D run: tables.py compares 2D runs (triangles, v_x v_y); compare 3D runs "
-                     "with /usr/bin/python3 tests/check_results.py RUN --compare REF --rtol R, "
-                     "which reads every column (v_tau2, v_z) and prints them with --rtol 0")
+                     "with ./run.sh compare -a RUN -ref REF (the L2 distance of v at T), or /usr/bin/python3 "
+                     "tests/check_results.py RUN --compare REF --rtol R (every column, v_tau2 and v_z too, within R of "
+                     "its scale; R, 1e-9 by default, is also the slack of the physics checks)")
         note = style.versions_note(folders, [runfiles.shown(folder) for folder in folders])
         if note:
             print(f"tables.py: note: {note}")

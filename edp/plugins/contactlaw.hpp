@@ -543,7 +543,7 @@ inline std::string zoneNamesProblem() {
 }
 
 // Is the law above one the solvers can use? 0 if so; otherwise 1 and a sentence in why.
-// Checked when a run starts, on 65 points r of [-g, 8g] (the range a run's velocities reach;
+// Checked when a run starts, on 73 points r = k g/8 of [-g, 8g] (the range a run's velocities reach;
 // a law can only be sampled): p(r) = p'(r) = 0 for r <= 0; p finite and nondecreasing; the
 // friction bound finite and >= 0; each slope equal to the difference quotient on its left,
 // its right or across r (a kink at r takes the slope on its left); the statuses and zones in

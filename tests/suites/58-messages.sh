@@ -1,0 +1,27 @@
+# Messages and echoes: the numbers of the scene echo.
+# Sourced by tests/run_tests.sh, in the order of the file names: it uses the harness's
+# variables and functions (solve, report, work, FREEFEM, PYTHON, coarse_options, ...).
+# ---- the scene echo: every number in the shortest text that reads back as the same double
+# (0.6, not 0.59999999999999998; 0.001; 2e-6), a direction normalized (traction 3 -4 as 0.6
+# -0.8); a run repeated from its own scene.scene and mesh.msh gives the same outputs and the
+# same echo (also with traction 1 -3, whose unit vector normalized again could change in its
+# last digit)
+diag="$work/echo.diag"; : > "$diag"; status=0
+sed 's/^traction 3 -4$/traction 1 -3/' tests/data/short-numbers.scene > "$work/echo-oblique.scene"
+own_files() { grep -v -E '^(# )?(scene|out|mesh|mesh_source|scene_file|nx|ny|time_[a-z_]*) ' "$1"; }
+for scene in tests/data/short-numbers.scene "$work/echo-oblique.scene"; do
+  run="$work/echo-$(basename "$scene" .scene)"
+  rm -rf "$run" "$run-again"
+  solve -scene "$scene" -quiet -out "$run" >> "$diag" 2>&1 || status=1
+  solve -scene "$run/scene.scene" -mesh "$run/mesh.msh" -quiet -out "$run-again" >> "$diag" 2>&1 || status=1
+  for f in "${OUTPUT_FILES[@]}"; do
+    cmp -s <(own_files "$run/$f") <(own_files "$run-again/$f") || { echo "$scene: $f differs when repeated" >> "$diag"; status=1; }
+  done
+  cmp -s <(grep -v -E '^(#|nx |ny )' "$run/scene.scene") <(grep -v '^#' "$run-again/scene.scene") \
+    || { echo "$scene: the repeated run's scene.scene is not the first's" >> "$diag"; diff "$run/scene.scene" "$run-again/scene.scene" >> "$diag"; status=1; }
+done
+for line in "traction 0.6 -0.8" "load_history 0 0 0.1 0.6 1 0.3333333333333333" "body_force 0.1 -0.001" "initial_velocity 2e-6 0" \
+            "bound_profile 0 0.05 1 0.03333333333333333" "damping table 0 0 0.1 5 1 50"; do
+  grep -qx -- "$line" "$work/echo-short-numbers/scene.scene" || { echo "scene.scene lacks '$line'" >> "$diag"; status=1; }
+done
+report $status "scene.scene writes the shortest numbers that read back (0.6, 0.001, 2e-6, 0.3333333333333333); repeated from it, the run is the same" "$diag"

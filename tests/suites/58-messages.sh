@@ -1,6 +1,26 @@
-# Messages and echoes: the numbers of the scene echo.
+# Messages and echoes: a misspelt scene key or option (the key it likely meant); the numbers
+# of the scene echo.
 # Sourced by tests/run_tests.sh, in the order of the file names: it uses the harness's
 # variables and functions (solve, report, work, FREEFEM, PYTHON, coarse_options, ...).
+# ---- an unknown key: its file and line, the key it most likely meant (the same but for case,
+# else one or two edits away), then every key; none suggested when none is near
+grep -v -E '^(traction|rho) ' edp/scenes/column.scene > "$work/typo-base.scene"
+{ cat "$work/typo-base.scene"; echo "rho 2e-6"; echo "tracton 0 -1"; } > "$work/typo-edit.scene"
+expect_failure "a misspelt scene key (one edit)" 3 \
+  "typo-edit.scene:$(wc -l < "$work/typo-edit.scene"): unknown key 'tracton' \\(did you mean 'traction'\\?\\); the keys of a scene: geometry .*traction.* damping, and the default of an option: .* rho .*\\(docs/design.md" \
+  -scene "$work/typo-edit.scene"
+{ cat "$work/typo-base.scene"; echo "traction 0 -1"; echo "Rho 2e-6"; } > "$work/typo-case.scene"
+expect_failure "a scene key in the wrong case" 3 "typo-case.scene:$(wc -l < "$work/typo-case.scene"): unknown key 'Rho' \\(did you mean 'rho'\\?\\); the keys of a scene: " \
+  -scene "$work/typo-case.scene"
+{ cat "$work/typo-base.scene"; echo "traction 0 -1"; echo "rho 2e-6"; echo "gravity 9.81"; } > "$work/typo-far.scene"
+expect_failure "an unknown scene key near no key" 3 "typo-far.scene:$(wc -l < "$work/typo-far.scene"): unknown key 'gravity'; the keys of a scene: geometry " \
+  -scene "$work/typo-far.scene"
+{ cat "$work/typo-base.scene"; echo "traction 0 -1"; echo "rho 2e-6 3e-6"; } > "$work/typo-values.scene"
+expect_failure "an option's default with two values in a scene" 3 "typo-values.scene:[0-9]+: cannot read 'rho 2e-6 3e-6': rho takes one value, the default of the option -rho" \
+  -scene "$work/typo-values.scene"
+expect_failure "a misspelt option" 2 "unknown option '-Rho' \\(did you mean '-rho'\\?\\); options are -scene, " -Rho 2e-6
+expect_failure "an option near none" 2 "unknown option '-gravity'; options are -scene, " -gravity 9.81
+
 # ---- the scene echo: every number in the shortest text that reads back as the same double
 # (0.6, not 0.59999999999999998; 0.001; 2e-6), a direction normalized (traction 3 -4 as 0.6
 # -0.8); a run repeated from its own scene.scene and mesh.msh gives the same outputs and the

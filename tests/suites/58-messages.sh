@@ -1,5 +1,5 @@
-# Messages and echoes: a misspelt scene key or option (the key it likely meant); the numbers
-# of the scene echo.
+# Messages and echoes: a misspelt scene key or option (the key it likely meant), a scene
+# without a mesh of its own; the numbers of the scene echo.
 # Sourced by tests/run_tests.sh, in the order of the file names: it uses the harness's
 # variables and functions (solve, report, work, FREEFEM, PYTHON, coarse_options, ...).
 # ---- an unknown key: its file and line, the key it most likely meant (the same but for case,
@@ -20,6 +20,21 @@ expect_failure "an option's default with two values in a scene" 3 "typo-values.s
   -scene "$work/typo-values.scene"
 expect_failure "a misspelt option" 2 "unknown option '-Rho' \\(did you mean '-rho'\\?\\); options are -scene, " -Rho 2e-6
 expect_failure "an option near none" 2 "unknown option '-gravity'; options are -scene, " -gravity 9.81
+
+# ---- a scene without a mesh of its own: geometry none needs -mesh (said before the options
+# that would size a structured mesh are asked for), and runs with one; -help still answers
+grep -v -E '^(geometry|nx|ny) ' edp/scenes/paper.scene > "$work/nomesh.scene"; echo "geometry none" >> "$work/nomesh.scene"
+expect_failure "geometry none without -mesh" 3 "nomesh.scene:$(wc -l < "$work/nomesh.scene"): geometry none: the scene has no mesh of its own; give one with -mesh FILE.msh" \
+  -scene "$work/nomesh.scene"
+sed 's/^geometry none$/geometry nothere/' "$work/nomesh.scene" > "$work/nogeo.scene"
+expect_failure "a geometry without its .geo" 3 "nogeo.scene:[0-9]+: geometry nothere: no readable file .*meshes/nothere.geo \\(a geometry is a .geo of meshes/\\); or give -mesh FILE.msh" \
+  -scene "$work/nogeo.scene"
+diag="$work/nomesh.diag"; : > "$diag"; status=0
+rm -rf "$work/nomesh"
+solve -scene "$work/nomesh.scene" -mesh "$work/paper-coarse-original/mesh.msh" -T 0.1 -dt 0.05 -quiet -out "$work/nomesh" >> "$diag" 2>&1 \
+  && "$PYTHON" tests/check_results.py "$work/nomesh" >> "$diag" 2>&1 || status=1
+solve -scene "$work/nomesh.scene" -help > "$work/nomesh-help.txt" 2>> "$diag" && grep -q -- '^  -nx  (none)  ' "$work/nomesh-help.txt" || status=1
+report $status "geometry none runs with -mesh; its -help lists the options" "$diag"
 
 # ---- the scene echo: every number in the shortest text that reads back as the same double
 # (0.6, not 0.59999999999999998; 0.001; 2e-6), a direction normalized (traction 3 -4 as 0.6

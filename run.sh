@@ -10,6 +10,7 @@
 #   ./run.sh animate RUN_DIR the deformed body over time (a run with -vtk N) -> RUN_DIR/figures
 #   ./run.sh bench [--quick] the benchmark: cost per step, work-precision (results/bench)
 #   ./run.sh stability [--quick]  where each method fails (results/stability)
+#   ./run.sh sweep -NAME V1,V2,... [options] -out DIR [-plot Q,...] [-jobs N]   one solve per value -> DIR
 # Checks for FreeFem++, gmsh, numdiff and python3 with matplotlib first, and installs
 # what is missing with apt-get when run as root (otherwise prints the command).
 set -euo pipefail
@@ -68,6 +69,7 @@ build_plugin() { # build_plugin NAME "SOURCES..." [LIBRARIES...]: (re)build edp/
   # the compiler flags are part of what was built: another KERNEL_CXXFLAGS rebuilds
   [ -f "$target" ] && [ "$(cat "$target.cksum" 2>/dev/null)" = "$sum $KERNEL_CXXFLAGS" ] && return 0
   mkdir -p "$PLUGINS/build"
+  echo "run.sh: building $target (its sources changed; up to a minute)" >&2
   local tmp="$target.$$" saved compiler
   saved="$(trap -p TERM INT HUP)"
   # (the plugin compares its sources with these at run time: PLUGIN_SOURCES, PLUGIN_SOURCES_CKSUM)
@@ -220,6 +222,7 @@ case "$command" in
     if [ $# -gt 0 ] && { [ -d "$1" ] || [[ "$1" == */* ]]; }; then exec "$PYTHON" "$here/plots/run_figures.py" "$@"; fi
     "$PYTHON" "$here/plots/figures.py" --results "${RESULTS_DIR:-$here/results}" --out "${RESULTS_DIR:-$here/results}/figures" "$@" ;;
   animate) ensure_dependencies; exec "$PYTHON" "$here/plots/animate.py" "$@" ;;
-  -h|--help|help) sed -n '2,14p' "$0" | sed 's/^# \{0,1\}//' ;;
-  *) echo "run.sh: error: unknown command '$command' (commands: solve, compare, test, figures, animate, bench, stability, or none for the main job)" >&2; exit 2 ;;
+  sweep) refuse_freefem_arguments "$@"; ensure_dependencies; exec "$PYTHON" "$here/plots/sweep.py" "$@" ;;   # each value: ./run.sh solve
+  -h|--help|help) sed -n '2,15p' "$0" | sed 's/^# \{0,1\}//' ;;
+  *) echo "run.sh: error: unknown command '$command' (commands: solve, compare, test, figures, animate, sweep, bench, stability, or none for the main job)" >&2; exit 2 ;;
 esac

@@ -342,6 +342,8 @@ def read_summary(path):
         if line.startswith("#") or not line.strip():
             continue
         words = line.split(None, 1)
+        if words[0] in summary:
+            raise InputError(f"{shown(path)}: the key {shown(words[0])} is given twice")
         summary[words[0]] = words[1].strip() if len(words) > 1 else ""
     return summary
 
@@ -355,6 +357,24 @@ def run_folder(folder):
     if missing:
         raise InputError(f"{shown(folder)} is not the folder of a finished run (no {' and no '.join(missing)})")
     return folder
+
+
+def completed_files(folder, marker="run.complete"):
+    """The names a folder's marker file lists, one a line after its signature line: run.complete
+    (written last by edp/solve.edp: the run's files, those of vtk/ as vtk/NAME) or
+    sweep.complete (plots/sweep.py: the entries of a sweep folder). None when the folder has
+    no such file written by the suite (a regular file whose first line starts '# MARKER:');
+    names with '..' or an empty part are left out (no list can name a file elsewhere)."""
+    path = os.path.join(folder, marker)
+    if not os.path.isfile(path) or os.path.islink(path):
+        return None
+    try:
+        lines = read_lines(path)
+    except InputError:
+        return None
+    if not lines or not lines[0].startswith(f"# {marker}:"):
+        return None
+    return [line for line in lines[1:] if line and all(part not in ("", ".", "..") for part in line.split("/"))]
 
 
 def run_dimension(folder):
@@ -737,7 +757,8 @@ def compare_runs(folder, other, rtol):
     run (its largest g for the velocities, p(g) (force_scale) for the stresses, times the
     contact area for the forces): a column of round-off in both (lambda_nu before any node
     reaches the bound) is compared as such. Zone counts (the columns zone_* of the first run),
-    x_B and x_C must be equal. The histories are compared where both runs have them."""
+    x_B and x_C must be equal. The histories are compared where both runs have them, on the
+    steps both made (a run continued with -restart against the whole run: the later steps)."""
     law = read_table(os.path.join(folder, "contact.txt"))
     g, stress = float(law["g"].max()), float(law["force_scale"].max())
     extra = (lambda *names: names) if run_dimension(folder) == 3 else (lambda *names: ())
@@ -745,6 +766,12 @@ def compare_runs(folder, other, rtol):
 
     def compare(name, families, exact=(), floors=()):
         a, b = read_table(os.path.join(folder, name)), read_table(os.path.join(other, name))
+        if "step" in a and "step" in b and len(a) != len(b):     # a run continued (-restart) against the whole run:
+            common = np.intersect1d(a["step"], b["step"])          # the steps both made
+            if len(common) != min(len(a), len(b)):
+                failures.append(f"{name}: the steps of one run are not a part of the other's vs {other}")
+                return
+            a, b = (Table(t.path, t.params, t.columns, t.data[np.isin(t["step"], common)]) for t in (a, b))
         if a.data.shape != b.data.shape:
             failures.append(f"{name}: shapes differ {a.data.shape} {b.data.shape}")
             return

@@ -16,7 +16,7 @@ the files written.
 
 A 3D run (summary.txt: dimension 3) needs no vtk/: its animation is Gamma3 seen from outside
 (face3d.ContactFace), each node's cell in the colour of its zone at each recorded step of
-contact_nodes_history.txt, the nodes per zone against t below (animate3).
+contact_nodes_history.txt, the nodes per zone against t below (animation3).
 """
 import argparse
 import contextlib
@@ -124,8 +124,13 @@ def animate(folder):
     out = os.path.join(runfiles.run_folder(folder), "figures")
     written = [os.path.join(out, name) for name in ("animation.gif", "animation.mp4")[:2 if shutil.which("ffmpeg") else 1]]
     files = figurefiles.FigureFiles(written)                  # refuses to draw over a file not ours
-    if runfiles.run_dimension(folder) == 3:
-        return animate3(folder, files, written)
+    fig, draw, count = (animation3 if runfiles.run_dimension(folder) == 3 else animation2)(folder)
+    return save_animation(fig, draw, count, files, written)
+
+
+def animation2(folder):
+    """The animation of a 2D run, from its vtk/ time series: (the figure, draw(k) drawing
+    frame k into it, the number of frames)."""
     zones = style.run_zones(folder)
     frames = time_series(folder, zones)
     xy, triangles = frames[0][1].xy, frames[0][1].triangles
@@ -133,7 +138,9 @@ def animate(folder):
     factor = style.magnification(np.ptp(xy, axis=0).max(), largest)
     moved = [xy + factor * array(vtu, "u", 2) for _, vtu in frames]
     label = colour_values(frames[0][1])[1]
-    norm = mcolors.Normalize(0.0, max(colour_values(vtu)[0].max() for _, vtu in frames) or 1.0)
+    largest = max(float(np.abs(colour_values(vtu)[0]).max()) for _, vtu in frames)
+    stress = style.scales(runfiles.read_table(os.path.join(folder, "contact.txt"))).stress
+    norm = style.least_norm([largest], max(stress, largest), low=0.0)      # from 0; round-off drawn flat
     scale = "true scale" if factor == 1 else f"displacements magnified {factor:g} times"
     name = os.path.basename(os.path.normpath(os.path.abspath(folder)))
     fig, ax = style.body_figure(np.concatenate([xy] + moved), f"{name} ({scale})\nt = {frames[-1][0]:.4g} s",
@@ -164,15 +171,15 @@ def animate(folder):
 
     draw(len(frames) - 1)                               # the layout for the widest title
     fig.tight_layout(rect=(0, (0.1 + 0.2 * legend_rows(fig, len(zones))) / fig.get_figheight(), 1, 1))   # the zones' legend below
-    return save_animation(fig, draw, len(frames), files, written)
+    return fig, draw, len(frames)
 
 
-def animate3(folder, files, written):
+def animation3(folder):
     """The animation of a 3D run: its contact face seen from outside (face3d.ContactFace),
     each node's cell in the colour of its zone at each recorded step of
     contact_nodes_history.txt (at most FRAMES of them, evenly spread, the first and the last
-    included), the nodes of each zone against t below, a line at the frame's t. Writes the
-    files `written` (all or nothing, through files); returns them."""
+    included), the nodes of each zone against t below, a line at the frame's t: (the figure,
+    draw(k) drawing frame k into it, the number of frames)."""
     from matplotlib.collections import LineCollection, PolyCollection
     from matplotlib.patches import Patch
     name = os.path.basename(os.path.normpath(os.path.abspath(folder)))
@@ -224,7 +231,7 @@ def animate3(folder, files, written):
                   bbox_to_anchor=(1.02, 1.0), borderaxespad=0)
         ax.set_title(f"{name}: zones on $\\Gamma_3$ at t = {t[step]:.4g} s\n{face.view}", fontsize=8)
 
-    return save_animation(fig, draw, len(chosen), files, written)
+    return fig, draw, len(chosen)
 
 
 def even_pixels(size):

@@ -29,6 +29,23 @@ plt = style.pyplot()
 PROBLEMS = ("original", "penalty")
 
 
+def paper_runs(results):
+    """The folders of the paper scene's runs, DIR/paper-original and DIR/paper-penalty."""
+    return [os.path.join(results, f"paper-{problem}") for problem in PROBLEMS]
+
+
+def paper_scales(results):
+    """The natural scales (style.Scales) of the paper runs' quantities: the least spans of
+    the axes (round-off drawn flat)."""
+    return style.scales(*(runfiles.read_table(os.path.join(folder, "contact.txt")) for folder in paper_runs(results)))
+
+
+def gamma3_length(*tables):
+    """The extent along x of Gamma3 in these contact.txt tables: the scale of a position on it."""
+    x = np.concatenate([t.finite("x")[0] for t in tables])
+    return float(np.ptp(x))
+
+
 def fig2_deformed(results, out):
     """Fig. 2: deformed configuration at T, true scale, with the contact line y = 0."""
     fig, axes = plt.subplots(1, 2, sharey=True)
@@ -45,6 +62,7 @@ def fig2_deformed(results, out):
         ax.set_xlabel("x [m]")
         ax.legend(loc="upper right")
     axes[0].set_ylabel("y [m]")
+    style.note_versions(fig, paper_runs(results))
     return style.save(fig, out, "fig2_deformed")
 
 
@@ -64,6 +82,8 @@ def fig3_contact_reactions(results, out):
         ax.set_xlabel("x [m]")
         ax.legend(loc="center right", fontsize=8)   # the band between p(g) and lambda_nu on CD is empty
     axes[0].set_ylabel("stress [GPa]")
+    style.least_span(axes[0], paper_scales(results).stress)     # (the axes share y)
+    style.note_versions(fig, paper_runs(results))
     return style.save(fig, out, "fig3_contact_reactions")
 
 
@@ -99,8 +119,10 @@ def fig4_velocities(results, out):
         ax.legend(loc="center right")          # CD: v_nu = g, v_tau = 0 leave this corner empty
     axes[0].set_ylabel("velocity [m/s]")
     g = max(g for *_, g in labels)
+    style.least_span(axes[0], paper_scales(results).velocity)
     bottom = axes[0].get_ylim()[0]                        # of both curves: the axes are shared
     axes[0].set_ylim(top=max(1.25 * g, bottom + (g - bottom) / 0.86))    # g at most 86 % up: the labels above
+    style.note_versions(fig, paper_runs(results))
     fig.tight_layout()
     for ax, found, texts, _ in labels:
         gamma3.label_stretches(ax, found, texts, (0.93, 0.885, 0.84))
@@ -145,6 +167,7 @@ def fig5_penalty_convergence(results, out, shown=(1e-1, 1e-2, 1e-3, 1e-5)):
     left.set_xlabel("x [m]")
     left.set_ylabel(r"$v_\nu$ [m/s]")
     left.legend(loc="upper left", fontsize=7)
+    style.least_span(left, style.scales(c).velocity)
     right.loglog(e["eps"], e["error_L2"], "o", markersize=6, label="penalty runs")
     try:
         tail = np.array([float(t) for t in study["tail_eps"].split(",")])
@@ -161,6 +184,7 @@ def fig5_penalty_convergence(results, out, shown=(1e-1, 1e-2, 1e-3, 1e-5)):
     right.set_xlabel(r"penalty parameter $\varepsilon$")
     right.set_ylabel(r"$\|v_\varepsilon - v\|_{L^2(\Omega)}$, consistent mass matrix [m$^2$/s]")
     right.legend(loc="lower right")
+    style.note_versions(fig, [os.path.join(results, "paper-original")] + [runs[eps] for eps in sorted(runs, reverse=True)])
     return style.save(fig, out, "fig5_penalty_convergence")
 
 
@@ -200,6 +224,8 @@ def contact_forces_history(results, out):
         ax.set_xlabel("t [s]")
         ax.set_ylabel("force per unit thickness [GPa m]")
         ax.legend()
+        style.least_span(ax, paper_scales(results).force)
+    style.note_versions(fig, paper_runs(results))
     return style.save(fig, out, "contact_forces_history")
 
 
@@ -207,9 +233,10 @@ def energy_history(results, out):
     """Discrete energy balance (docs/design.md, "Energy identity"): the energies and the cumulative
     dissipations and work against t (left, log scale), the per-step residual (right)."""
     fig, (left, right) = plt.subplots(1, 2)
+    largest = 0.0
     for problem, line in zip(PROBLEMS, ("-", "--")):
         h = runfiles.read_table(os.path.join(results, f"paper-{problem}", "history.txt"))
-        style.energy_terms_plot(left, h, line, labelled=problem == "original")
+        largest = max(largest, style.energy_terms_plot(left, h, line, labelled=problem == "original"))
         residual = np.where(h["energy_residual"] > 0, h["energy_residual"], np.nan)   # log scale: 0 is not drawn
         right.semilogy(h["t"], residual, line, marker="o", markersize=2, label=style.problem_label(h.params))
     left.plot([], [], "k-", label="original problem")
@@ -220,6 +247,8 @@ def energy_history(results, out):
     right.set_xlabel("t [s]")
     right.set_ylabel("|balance| / largest term")
     right.legend()
+    style.log_floor(left, largest)
+    style.note_versions(fig, paper_runs(results))
     return style.save(fig, out, "energy_history")
 
 
@@ -227,7 +256,9 @@ def zone_boundaries(results, out):
     """Zone boundaries x_B (first node at the bound) and x_C (first sticking node in contact)
     against t (left), and the zone counts AB, BC, CD (right); nan (not drawn) where absent."""
     fig, (left, right) = plt.subplots(1, 2)
+    tables = []
     for problem, line in zip(PROBLEMS, ({"linestyle": "-"}, {"linestyle": "none", "marker": "o", "markersize": 2.5})):
+        tables.append(runfiles.read_table(os.path.join(results, f"paper-{problem}", "contact.txt")))
         h = runfiles.read_table(os.path.join(results, f"paper-{problem}", "contact_history.txt"))
         name = style.problem_label(h.params)
         left.plot(h["t"], h["x_B"], color="tab:orange", label=f"$x_B$, {name}", **line)
@@ -244,6 +275,8 @@ def zone_boundaries(results, out):
     right.set_xlabel("t [s]")
     right.set_ylabel("nodes")
     right.legend(fontsize=7)
+    style.least_span(left, gamma3_length(*tables))
+    style.note_versions(fig, paper_runs(results))
     return style.save(fig, out, "zone_boundaries")
 
 
@@ -273,6 +306,8 @@ def scene_unloading(results, out):
     left.set_ylabel("force per unit thickness [GPa m]")
     left.set_title(f"loaded, then unloaded: f2 = {c.params['load']} h(t)")
     left.legend(fontsize=7)
+    style.least_span(left, style.scales(c).force)
+    style.least_span(twin, 1.0)                          # h(t): a factor
     style.zone_counts_plot(right, h)
     return style.save(fig, out, "scene_unloading")
 
@@ -306,6 +341,7 @@ def scene_cylinder(results, out):
     right.set_xlabel("x [m] of the contact node")
     right.set_title(f"along the arc at T = {c.params['T']} (each node its own normal)")
     right.legend(fontsize=7)
+    style.least_span(right, 1.0)                         # ratios to g and p(g)
     return style.save(fig, out, "scene_cylinder")
 
 
@@ -330,6 +366,9 @@ def scene_bound_profile(results, out):
     right.set_ylabel("x [m]")
     right.set_title("first node at the bound, $x_B$")
     right.legend(fontsize=7)
+    style.least_span(left, style.scales(c, pc).velocity)
+    style.least_span(right, gamma3_length(c, pc))
+    style.note_versions(fig, [folder, paper])
     return style.save(fig, out, "scene_bound_profile")
 
 
@@ -367,6 +406,11 @@ def scene_power_damping(results, out):
     right.set_ylabel("velocity [m/s]")
     right.set_title(f"normal velocity on $\\Gamma_3$ at T = {c.params['T']}")
     right.legend(fontsize=7)
+    scales = style.scales(c, pc)
+    style.least_span(left, scales.velocity, "x")
+    style.least_span(left, scales.stress)
+    style.least_span(right, scales.velocity)
+    style.note_versions(fig, [folder, paper])
     return style.save(fig, out, "scene_power_damping")
 
 

@@ -56,8 +56,9 @@ plt = style.pyplot()
 class Run:
     """A run folder: its name, its zones (zone_types: style.run_zones), contact.txt at T (its
     statuses and zone codes checked), mesh, the statuses and zone code of each contact node
-    (normal, tangential, zones), where the nodes lie along Gamma3 (position, axis label) and
-    the piece of Gamma3 each lies on (gamma3.contact_pieces)."""
+    (normal, tangential, zones), where the nodes lie along Gamma3 (position, axis label), the
+    piece of Gamma3 each lies on (gamma3.contact_pieces) and the natural scales of its
+    quantities (scales: style.scales, the least spans of its figures' axes)."""
 
     def __init__(self, folder):
         self.folder = runfiles.run_folder(folder)
@@ -67,6 +68,7 @@ class Run:
         self.normal, self.tangential = c.codes("normal_status", 0, 2), c.codes("tangential_status", 0, 1)
         self.zone_types = style.run_zones(folder)
         self.zones = c.codes("zone", 0, len(self.zone_types) - 1)
+        self.scales = style.scales(c)
         if self.dimension == 3:
             self.init3()
             return
@@ -117,8 +119,11 @@ def contact_panels(fig_title, runs, shade):
         axes[2].plot(s, lambda_tau, "o-", color=color, label=f"{name}$\\lambda_\\tau$")
         axes[2].plot(s, bound, "--", color=color, linewidth=0.8, label=f"{name}$\\pm$ friction bound")
         axes[2].plot(s, -bound, "--", color=color, linewidth=0.8)
-    for ax, unit in zip(axes, ("velocity [m/s]", "pressure [GPa]", "tangential stress [GPa]")):
+    scales = [run.scales for run in runs]
+    for ax, unit, scale in zip(axes, ("velocity [m/s]", "pressure [GPa]", "tangential stress [GPa]"),
+                               ("velocity", "stress", "friction")):
         ax.set_ylabel(unit)
+        style.least_span(ax, max(getattr(s, scale) for s in scales))      # round-off drawn flat
         handles = ax.get_legend_handles_labels()[0]
         if shade:
             gamma3.shade_stretches(ax, gamma3.stretches(runs[0].position, runs[0].zones, runs[0].pieces),
@@ -155,8 +160,12 @@ def contact_at_T(run):
 
 
 def compare_contact(runs):
-    """The contact quantities at T of several runs, overlaid (into the first run's figures/)."""
-    return contact_panels(f"contact on $\\Gamma_3$ at T: {', '.join(run.name for run in runs)}", runs, False)
+    """The contact quantities at T of several runs, overlaid (into the first run's figures/);
+    the title says so when the runs were made by different versions of the suite
+    (style.versions_note)."""
+    note = style.versions_note([run.folder for run in runs], [run.name for run in runs])
+    title = f"contact on $\\Gamma_3$ at T: {', '.join(run.name for run in runs)}"
+    return contact_panels(title + (f"\n{style.plain_text(note)}" if note else ""), runs, False)
 
 
 def histories(run):
@@ -189,8 +198,9 @@ def histories(run):
         forces.set_ylabel("force per unit thickness [GPa m]")
     forces.set_title(f"{run.name}: contact forces on $\\Gamma_3$")
     forces.legend(fontsize=7)
+    style.least_span(forces, run.scales.force)                     # round-off drawn flat
     style.zone_counts_plot(zones, h)
-    style.energy_terms_plot(energy, e)
+    style.log_floor(energy, style.energy_terms_plot(energy, e))
     if run.dimension == 3:
         energy.set_ylabel("energy [GJ]")
     energy.set_title("energies at $t_n$, cumulative dissipations and work")
@@ -213,10 +223,12 @@ def deformed(run):
     factor = style.magnification(np.ptp(xy, axis=0).max(), np.hypot(*u.T).max())
     moved = xy + factor * u
     values, label = f.finite("von_mises")[0], "von Mises stress [GPa]"
+    norm = style.least_norm(values, max(run.scales.stress, float(np.abs(values).max())))
     scale = "true scale" if factor == 1 else f"displacements magnified {factor:g} times"
     fig, ax = style.body_figure(np.r_[xy, moved], f"{run.name}: deformed at T = {f.params['T']} ({scale}), "
                                                   "contact nodes by zone", legend=(1 + len(set(run.zones)), 3, 2.4))
-    shown = ax.tripcolor(mtri.Triangulation(*moved.T, run.mesh.triangles), values, shading="gouraud", cmap="viridis")
+    shown = ax.tripcolor(mtri.Triangulation(*moved.T, run.mesh.triangles), values, shading="gouraud", cmap="viridis",
+                         norm=norm)
     fig.colorbar(shown, ax=ax, label=label, shrink=0.8)
     edges = gamma3.boundary_edges(run.mesh.triangles)
     ax.add_collection(mcollections.LineCollection(xy[edges], colors="0.6", linewidths=0.8, label="undeformed outline"))
@@ -315,14 +327,11 @@ def face_grid(face, maps, width=11.0, highest=4.2, plain=3.0):
     return fig, axes, plain_axes
 
 
-def face_map(fig, axes, run, values, label, title, norm=None):
+def face_map(fig, axes, run, values, label, title, norm):
     """A quantity at the nodes of Gamma3 over the face (linear on each triangle), the
-    triangles' edges in white, a colour bar (from 0 when the quantity is the same at every
-    node to 1 part in 1000, so that round-off is not drawn as a pattern); returns the colour
-    bar."""
+    triangles' edges in white, a colour bar on the scale norm (style.least_norm: round-off is
+    not drawn as a pattern); returns the colour bar."""
     face, (ax, room) = run.face, axes
-    if norm is None and np.ptp(values) <= 1e-3 * np.abs(values).max():
-        norm = mcolors.Normalize(min(0.0, values.min()), max(0.0, values.max()) or 1.0)
     shown = ax.tripcolor(mtri.Triangulation(*face.uv.T, face.triangles), values, shading="gouraud", cmap="viridis",
                          norm=norm)
     ax.add_collection(mcollections.LineCollection(face.uv[face.edges()], colors="w", linewidths=0.4, alpha=0.35))
@@ -348,21 +357,22 @@ def contact_at_T3(run):
         bar.ax.axhline(value, xmin=-0.3, xmax=1.0, color="tab:red", linewidth=2.5, clip_on=False, in_layout=False)
         bar.ax.text(-0.4, value, "g", color="tab:red", ha="right", va="center", fontsize=9, fontweight="bold",
                     transform=bar.ax.get_yaxis_transform(), in_layout=False)
-    face_map(fig, pressure, run, c["p_nu"], "$p_\\nu$ [GPa]", "normal stress\n$p_\\nu = p(v_\\nu) + \\lambda_\\nu$")
+    face_map(fig, pressure, run, c["p_nu"], "$p_\\nu$ [GPa]", "normal stress\n$p_\\nu = p(v_\\nu) + \\lambda_\\nu$",
+             style.least_norm(c["p_nu"], run.scales.stress))
     velocity = face.tangential(c["v_tau"], c["v_tau2"])
     speed = np.hypot(c["v_tau"], c["v_tau2"])
     slipping = (run.normal > 0) & (run.tangential == 1)       # in contact (normal status 1, 2) and slipping (1)
     longest = float(speed[slipping].max()) if slipping.any() else 0.0
     face_map(fig, slip, run, speed, "$|v_\\tau|$ [m/s]", "slip speed $|v_\\tau|$\narrows: the slip velocity"
              + (f" (longest {longest:.3g} m/s)" if slipping.any() else ": no node slips"),
-             norm=mcolors.Normalize(0.0, speed.max() or 1.0))
+             norm=style.least_norm(speed, run.scales.velocity, low=0.0))
     if slipping.any():
         edges = face.uv[face.edges()]
         spacing = float(np.median(np.hypot(*(edges[:, 1] - edges[:, 0]).T)))   # the longest arrow: 0.7 of it
         slip[0].quiver(*face.uv[slipping].T, *velocity[slipping].T, color="w", edgecolor="k", linewidth=0.5, angles="xy",
                     scale_units="xy", scale=longest / (0.7 * spacing), pivot="middle", width=0.005, zorder=3, clip_on=False, in_layout=False)
     friction, bound = np.hypot(c["lambda_tau"], c["lambda_tau2"]), c["friction_bound"]
-    top = 1.08 * max(float(friction.max()), float(bound.max())) or 1.0
+    top = 1.08 * max(float(friction.max()), float(bound.max()), style.LEAST * run.scales.friction)   # round-off drawn flat
     cone.plot([0, top], [0, top], "k--", linewidth=0.8, label="$|\\lambda_\\tau|$ = friction bound: slip")
     cone.scatter(bound, friction, c=[style.zone_color(z) for z in run.zones], s=18, edgecolors="k", linewidths=0.4, zorder=3,
                  clip_on=False)
@@ -418,9 +428,7 @@ def deformed3(run):
     values, label = f.finite("von_mises")[0], "von Mises stress [GPa]"
     surface = face3d.outer_surface(run.mesh.tetrahedra, xyz)
     outline = xyz[face3d.feature_edges(surface, xyz)]
-    norm = mcolors.Normalize(float(values.min()), float(values.max()))
-    if np.ptp(values) <= 1e-3 * np.abs(values).max():           # the same everywhere: round-off is no pattern
-        norm = mcolors.Normalize(min(0.0, float(values.min())), max(0.0, float(values.max())) or 1.0)
+    norm = style.least_norm(values, max(run.scales.stress, float(np.abs(values).max())))    # round-off is no pattern
     colors = plt.get_cmap("viridis")(norm(values[surface].mean(axis=1)))
     def drawn(points):
         """(x, -z, y): y up in mplot3d's frame, still right-handed (its ticks on the second

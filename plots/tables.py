@@ -18,6 +18,9 @@ choices.txt).
 prints the differences at T between successive runs (RUN1 - RUN2, RUN2 - RUN3, ...),
 e.g. runs with halved time steps, and the observed order of convergence
 log(d_i/d_i+1)/log(dt_i/dt_i+1) of max|dv_nu| on Gamma3, which needs no exact solution.
+When the runs compared were made by different versions of the suite (the suite_version of
+their summary.txt), a line says so first ("tables.py: note: runs made by different versions
+of the suite: ..."); nothing is said when they agree or give none.
 
 The files are plain text: '#' header lines (key value), then one '#' line naming the
 columns; floats are written with repr (full precision), rows in a fixed order.
@@ -126,10 +129,10 @@ def mesh_of(folder):
 def velocity_field(folder, xy):
     """(v_x, v_y) at every node of fields.txt, after checking that its rows are the mesh nodes."""
     fields = runfiles.read_table(os.path.join(folder, "fields.txt"))
-    coordinates = np.column_stack([fields["x"], fields["y"]])
+    coordinates = np.column_stack(fields.finite("x", "y"))
     if coordinates.shape != xy.shape or np.max(np.abs(coordinates - xy)) > COORDINATE_TOL:
         fail(f"{folder}/fields.txt: its rows are not the nodes of the reference mesh")
-    return np.column_stack([fields["v_x"], fields["v_y"]])
+    return np.column_stack(fields.finite("v_x", "v_y"))
 
 
 def compare_runs(reference, folder):
@@ -137,9 +140,11 @@ def compare_runs(reference, folder):
     |dv_nu| and |dv_tau|, max over all nodes of |dv|, and ||dv||_L2(Omega) with the consistent
     mass matrix when both runs have the same triangles (nan otherwise: on two different
     triangulations of the same nodes the difference is not a P1 field of either)."""
-    s = runfiles.read_summary(folder)
-    contact_ref = runfiles.read_table(os.path.join(reference, "contact.txt"))
+    s = runfiles.read_summary(runfiles.run_folder(folder))
+    contact_ref = runfiles.read_table(os.path.join(runfiles.run_folder(reference), "contact.txt"))
     contact = runfiles.read_table(os.path.join(folder, "contact.txt"))
+    for table in (contact_ref, contact):
+        table.finite("x", "v_nu", "v_tau")
     if len(contact["x"]) != len(contact_ref["x"]) or np.max(np.abs(contact["x"] - contact_ref["x"])) > COORDINATE_TOL:
         fail(f"{folder}: its Gamma3 nodes are not those of {reference}")
     xy, triangles = mesh_of(reference)
@@ -273,8 +278,12 @@ def main():
                 fail(f"no run in {runfiles.shown(folder)}")
             if runfiles.run_dimension(folder) == 3:
                 fail(f"{runfiles.shown(folder)} is a 3D run: tables.py compares 2D runs (triangles, v_x v_y); compare 3D runs "
-                     "with /usr/bin/python3 tests/check_results.py RUN --compare REF --rtol R, "
-                     "which reads every column (v_tau2, v_z) and prints them with --rtol 0")
+                     "with ./run.sh compare -a RUN -ref REF (the L2 distance of v at T), or /usr/bin/python3 "
+                     "tests/check_results.py RUN --compare REF --rtol R (every column, v_tau2 and v_z too, within R of "
+                     "its scale; R, 1e-9 by default, is also the slack of the physics checks)")
+        note = style.versions_note(folders, [runfiles.shown(folder) for folder in folders])
+        if note:
+            print(f"tables.py: note: {note}")
         if args.compare:
             print(f"tables.py: differences at T from {folders[0]}")
             print_comparison([compare_runs(folders[0], folder) for folder in folders[1:]])
@@ -286,6 +295,10 @@ def main():
         return
     if not os.path.isdir(args.results):
         fail(f"no folder {runfiles.shown(args.results)}")
+    runs = run_folders(args.results)
+    note = style.versions_note([folder for _, folder in runs], [name for name, _ in runs])
+    if note:
+        print(f"tables.py: note: {note}")
     zones_table(args.results)
     eps_study_table(args.results)
     choices_table(args.results)

@@ -195,14 +195,19 @@ class Checks(Checker, Checks3D, KnownAnswers):
 
     def check_energy(self, rtol):
         h = self.h
-        steps = self.summary.integer("steps")
+        steps, offset = self.summary.integer("steps"), self.step_offset()
         dt, T = self.real("dt"), self.real("T")
-        self.expect(len(h["t"]) == steps == round(T / dt), f"history has {len(h['t'])} steps, expected T/dt")
-        self.expect(np.allclose(h["t"], dt * np.arange(1, len(h["t"]) + 1), rtol=1e-12, atol=0), "history t != n dt")
+        self.expect(len(h["t"]) == steps == round(T / dt) - offset,
+                    f"history has {len(h['t'])} steps, expected T/dt" + (f" - {offset} (the steps before the restart)" if offset else ""))
+        self.expect(np.allclose(h["t"], dt * np.arange(offset + 1, offset + len(h["t"]) + 1), rtol=1e-12, atol=0),
+                    "history t != n dt")
         energy = h["kinetic"] + h["elastic"]
         initial = self.summary.real("initial_kinetic")
         self.expect(initial >= 0, f"initial_kinetic negative ({initial})")
-        before = np.concatenate(([initial], energy[:-1]))     # u0 = 0, v0 (initial_velocity)
+        if "initial_elastic" in self.summary:                   # u_0: 0 unless -restart
+            self.expect(self.summary.real("initial_elastic") >= 0, "initial_elastic negative")
+            initial += self.summary.real("initial_elastic")
+        before = np.concatenate(([initial], energy[:-1]))     # u0, v0 (initial_velocity, or a restart's)
         terms = np.vstack([energy, before, h["numerical_dissipation"], h["viscous_dissipation"],
                            h["contact_dissipation"], h["external_work"]])
         balance = energy - before + h["numerical_dissipation"] + h["viscous_dissipation"] \
@@ -262,10 +267,20 @@ class Checks(Checker, Checks3D, KnownAnswers):
         E, nu, d = self.real("E"), self.real("nu"), self.dim
         stiff = E / (1 + nu) + d * abs(self.elastic_lambda())
         viscous = self.real("eta") + d * abs(self.real("muv"))
-        h2 = self.body()[1]
+        measure, h2 = self.body()
         v2 = 2 * np.maximum(h["kinetic"], 0.0) / rho
-        u2 = (k * np.cumsum(np.sqrt(v2))) ** 2
+        if self.step_offset() == 0:
+            u2 = (k * np.cumsum(np.sqrt(v2))) ** 2             # u_0 = 0
+        else:                                                   # a restart: u_n = u_T - k sum_{m > n} v_m
+            uT = np.column_stack([self.f[name] for name in ("u_x", "u_y", "u_z")[:d]])
+            later = np.concatenate((np.cumsum(np.sqrt(v2)[::-1])[::-1][1:], [0.0]))
+            u2 = (np.sqrt(measure) * float(np.abs(uT).max()) * np.sqrt(d) + k * later) ** 2
         return ((k * viscous + k * k * stiff) * v2 + stiff * u2) / h2
+
+    def step_offset(self):
+        """The steps before this run's first (a run continued with -restart; 0 otherwise, and in
+        runs older than the key first_step)."""
+        return self.summary.integer("first_step") - 1 if "first_step" in self.summary else 0
 
     def check_series(self, rtol):
         """contact_nodes_history.txt: one row per contact node at the steps -every gives (and the
@@ -274,9 +289,10 @@ class Checks(Checker, Checks3D, KnownAnswers):
         path = os.path.join(self.folder, "contact_nodes_history.txt")
         if not self.expect(os.path.isfile(path), "missing contact_nodes_history.txt"):
             return
-        nh, c, steps = runfiles.read_table(path), self.c, len(self.h)
+        nh, c, offset = runfiles.read_table(path), self.c, self.step_offset()
+        steps = offset + len(self.h)                            # the last step's number
         every = int(nh.params.real("every")) or max(1, -(-steps // 200))
-        recorded = sorted({n for n in range(1, steps + 1) if n % every == 0} | {steps})
+        recorded = sorted({n for n in range(offset + 1, steps + 1) if n % every == 0} | {steps})
         if not self.expect(len(nh) == len(c) * len(recorded),
                            f"contact_nodes_history.txt has {len(nh)} rows, expected {len(c)} nodes x {len(recorded)} steps"):
             return
@@ -289,14 +305,14 @@ class Checks(Checker, Checks3D, KnownAnswers):
         failures = len(self.failures)
         for row, n in enumerate(recorded[:-1]):       # (the last: contact.txt, checked by check_contact)
             rows = slice(row * len(c), (row + 1) * len(c))
-            self.check_law(rtol, {name: nh[name][rows] for name in nh.columns}, n - 1,
+            self.check_law(rtol, {name: nh[name][rows] for name in nh.columns}, n - 1 - offset,
                            f"contact_nodes_history.txt, step {n}: ")
             if len(self.failures) > failures:        # the first step that fails says it
                 break
         zone = nh["zone"].reshape(len(recorded), len(c)).astype(int)
         for row, n in enumerate(recorded):
             counts = [int((zone[row] == code).sum()) for code in range(len(self.zone_columns))]
-            logged = [int(self.ch[k][n - 1]) for k in self.zone_columns]
+            logged = [int(self.ch[k][n - 1 - offset]) for k in self.zone_columns]
             if not self.expect(counts == logged, f"step {n}: contact_nodes_history.txt zones {counts}, contact_history.txt {logged}"):
                 break
         last = slice(len(nh) - len(c), len(nh))
@@ -377,10 +393,21 @@ def zone_counts(text):
     return [int(w) for w in words]
 
 
+def tolerance(text):
+    """--rtol: a number > 0 and below 1 (a relative tolerance)."""
+    try:
+        value = float(text)
+    except ValueError:
+        value = float("nan")
+    if not 0 < value < 1:
+        raise argparse.ArgumentTypeError(f"'{text}' is not a relative tolerance: a number > 0 and < 1")
+    return value
+
+
 def main():
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("folder")
-    parser.add_argument("--rtol", type=float, default=1e-9, help="tolerance of every check (relative)")
+    parser.add_argument("--rtol", type=tolerance, default=1e-9, help="tolerance of every check (relative, > 0 and < 1)")
     parser.add_argument("--zones", type=zone_counts, help="expected node count of each zone at T, in the order of "
                         "the zone codes (the columns zone_* of contact_history.txt)")
     parser.add_argument("--column", action="store_true", help="check the column scene's known answer")
@@ -388,6 +415,9 @@ def main():
                         "sliding at the bound: the disk law, the total friction force, the block's momentum)")
     parser.add_argument("--compare", help="another output folder that must agree to --rtol")
     args = parser.parse_args()
+    runfiles.run_folder(args.folder)              # a finished run (summary.txt, run.complete), else one line
+    if args.compare:
+        runfiles.run_folder(args.compare)
     check = Checks(args.folder)
     if check.load():
         if args.column:

@@ -88,14 +88,18 @@ class Checker:
         # with the rows summary.txt announces
         for name, table, rows in (("contact.txt", self.c, "contact_nodes"), ("fields.txt", self.f, "vertices"),
                                   ("history.txt", self.h, "steps"), ("contact_history.txt", self.ch, "steps")):
-            self.expect(name == "contact_history.txt" or bool(np.isfinite(table.data).all()), f"{name} holds non-finite numbers")
+            finite = table.data if name != "contact_history.txt" else \
+                table.data[:, [k for k, column in enumerate(table.columns) if column not in ("x_B", "x_C")]]
+            self.expect(bool(np.isfinite(finite).all()), f"{name} holds non-finite numbers"
+                        + (" (beyond x_B, x_C, nan where there is none)" if name == "contact_history.txt" else ""))
             self.expect(str(len(table)) == self.summary[rows],
                         f"{name} has {len(table)} rows, summary.txt says {rows} {self.summary[rows]}")
         self.zone_columns = runfiles.zone_names(self.ch.columns)
         self.expect(self.zone_columns, "contact_history.txt has no zone_* column (the zones of the run)")
-        self.expect(runfiles.zone_names(self.summary) == self.zone_columns,
-                    f"summary.txt's zones {' '.join(runfiles.zone_names(self.summary))} are not the columns "
-                    f"{' '.join(self.zone_columns)} of contact_history.txt")
+        keys = runfiles.zone_names(self.summary)
+        self.expect(keys == self.zone_columns,
+                    (f"summary.txt's zones {' '.join(keys)}" if keys else "summary.txt has no zone_* key") + " but "
+                    f"contact_history.txt has the columns {' '.join(self.zone_columns) or '(none)'}")
         if not self.failures:
             for name, high in (("normal_status", 2), ("tangential_status", 1), ("zone", len(self.zone_columns) - 1)):
                 self.c.codes(name, 0, high)

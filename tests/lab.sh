@@ -128,27 +128,27 @@ keys penalty check_constraint=0 check_complementarity=0
 # 2. penalty against multiplier
 for row in "1e-2 5.000e-02" "1e-3 7.308e-03" "1e-4 7.659e-04" "1e-5 7.695e-05" "1e-6 7.699e-06" "1e-8 7.700e-08" "1e-10 7.700e-10"; do
   eps="${row% *}"
-  grep -q "penalty-$eps  .* ${row#* }  " "$log" || problem "max|dv_nu| ${row#* } at eps = $eps"
+  grep -q "eps/eps-$eps  .* ${row#* }  " "$log" || problem "max|dv_nu| ${row#* } at eps = $eps"
 done
-zones eps/penalty-1e-2 1 6 0 13 13
-column eps/penalty-1e-2 contact.txt v_nu 0.099 0.1 1
-for eps in 1e-3 1e-4 1e-5 1e-6 1e-8 1e-10; do zones "eps/penalty-$eps" 1 7 0 14 11; done
-for run in paper eps/penalty-1e-2 eps/penalty-1e-3 eps/penalty-1e-4 eps/penalty-1e-5 eps/penalty-1e-6 eps/penalty-1e-8 eps/penalty-1e-10; do
+zones eps/eps-1e-2 1 6 0 13 13
+column eps/eps-1e-2 contact.txt v_nu 0.099 0.1 1
+for eps in 1e-3 1e-4 1e-5 1e-6 1e-8 1e-10; do zones "eps/eps-$eps" 1 7 0 14 11; done
+for run in paper eps/eps-1e-2 eps/eps-1e-3 eps/eps-1e-4 eps/eps-1e-5 eps/eps-1e-6 eps/eps-1e-8 eps/eps-1e-10; do
   n="$(key "$run" iterations_total)"; [ -n "$n" ] && [ "$n" -ge 36 ] && [ "$n" -le 39 ] || problem "36 to 39 iterations for \$LAB/$run (it has '$n')"
 done
 keys paper iterations_total=38
-keys eps/literal-1e-4 iterations_total=39 zone_damped_slip=7 zone_bound_slip=14 zone_bound_stick=11
-keys eps/literal-1e-8 zone_damped_slip=7 zone_bound_slip=14 zone_bound_stick=11
-keys eps/penalty-1e-8 iterations_total=38 newton_fallbacks=1
+keys literal/eps-1e-4 iterations_total=39 zone_damped_slip=7 zone_bound_slip=14 zone_bound_stick=11
+keys literal/eps-1e-8 zone_damped_slip=7 zone_bound_slip=14 zone_bound_stick=11
+keys eps/eps-1e-8 iterations_total=38 newton_fallbacks=1
 # the counts of the literal row are decided by round-off: the sheet states only that they
 # exceed the compliant row's, and by a dozen or more fallbacks
 more() { # more RUN KEY THAN: KEY of RUN/summary.txt is above THAN
   local n; n="$(key "$1" "$2")"
   [ -n "$n" ] && [ "$n" -gt "$3" ] || problem "$2 above $3 for \$LAB/$1 (it has '$n')"
 }
-more eps/literal-1e-8 iterations_total 38
-more eps/literal-1e-8 newton_fallbacks 11
-[ ! -e "$LAB/eps/literal-1e-8-off" ] || problem "the literal row at eps = 1e-8 without the safeguard fails and writes nothing"
+more literal/eps-1e-8 iterations_total 38
+more literal/eps-1e-8 newton_fallbacks 11
+[ ! -e "$LAB/literal-off" ] || problem "the literal row at eps = 1e-8 without the safeguard fails and writes nothing"
 # residual R: between 1e-10 (the tolerance it failed) and 1e-8; its digits are round-off's
 awk '/^error: step [0-9]+ \(t = [0-9.]+\): the contact solver did not converge after 50 iterations \(iteration cap reached\), residual / {
        r = $0; sub(/.*residual /, "", r); sub(/ .*/, "", r); if (r + 0 > 1e-10 && r + 0 < 1e-8) found = 1 }
@@ -181,11 +181,11 @@ said_small "  iteration 4: residual " "; changed: none" 1e-12
 # factorization counts are decided by round-off: "a few" for the paper's law, "within a few
 # of the iterations" for the power law (at most 5 less)
 for tol in 1e-6 1e-10 1e-12; do
-  keys "ex1/linear-tol$tol" iterations_total=38
-  n="$(key "ex1/linear-tol$tol" newton_factorizations)"; [ -n "$n" ] && [ "$n" -ge 1 ] && [ "$n" -le 5 ] || problem "a few factorizations (1 to 5) for \$LAB/ex1/linear-tol$tol (it has '$n')"
+  keys "ex1/linear/tol-$tol" iterations_total=38
+  n="$(key "ex1/linear/tol-$tol" newton_factorizations)"; [ -n "$n" ] && [ "$n" -ge 1 ] && [ "$n" -le 5 ] || problem "a few factorizations (1 to 5) for \$LAB/ex1/linear/tol-$tol (it has '$n')"
 done
 for pair in 1e-6=53 1e-10=66 1e-12=69; do
-  run="ex1/power-tol${pair%=*}"; keys "$run" iterations_total="${pair#*=}"
+  run="ex1/power/tol-${pair%=*}"; keys "$run" iterations_total="${pair#*=}"
   n="$(key "$run" newton_factorizations)"; [ -n "$n" ] && [ "$n" -ge $(( ${pair#*=} - 5 )) ] && [ "$n" -le "${pair#*=}" ] \
     || problem "newton_factorizations within a few of the ${pair#*=} iterations for \$LAB/$run (it has '$n')"
 done
@@ -198,12 +198,18 @@ column ex2/load-10 contact_history.txt normal_force 13.85 13.86 1
 column ex2/load-40 contact_history.txt normal_force 60.50 60.51 1
 grep -q 'ex3/dt-0.05 - dt-0.025 .* 1\.20$' "$log" && grep -q 'ex3/dt-0.025 - dt-0.0125 .* 1\.12$' "$log" || problem "the orders 1.20 then 1.12"
 for dt in 0.1 0.05 0.025 0.0125; do zones "ex3/dt-$dt" 1 7 0 14 11; done
+# the sweeps: every value ran, and each row of sweep.txt is its run's own (tests/check_sweep.py)
+for sweep in "eps eps 1e-2,1e-3,1e-4,1e-5,1e-6,1e-8,1e-10" "literal eps 1e-4,1e-8" "ex1/linear tol 1e-6,1e-10,1e-12" \
+             "ex1/power tol 1e-6,1e-10,1e-12" "ex2 load 2.5,10,40" "ex3 dt 0.1,0.05,0.025,0.0125"; do
+  set -- $sweep
+  /usr/bin/python3 "$root/tests/check_sweep.py" "$LAB/$1" "$2" "$3" >&2 || problem "a row per value of -$2 ($3) in \$LAB/$1/sweep.txt, each its run's"
+done
 # 5. seeing a run
 [ "$(ls "$LAB/see/vtk" 2>/dev/null | grep -c '^fields_[0-9]*\.vtu$')" = 11 ] || problem "11 frames in \$LAB/see/vtk"
 [ -s "$LAB/see/figures/animation.gif" ] || problem "\$LAB/see/figures/animation.gif"
 named see fields.txt u_x,u_y | awk '{ u = sqrt($1 * $1 + $2 * $2); if (u > max) max = u } END { exit !(max > 0.14 && max < 0.145) }' \
   || problem "the displacements reach 0.14 m in \$LAB/see"
-for file in paper/figures/contact_at_T.png paper/figures/zone_map.png eps/penalty-1e-2/figures/compare_contact.png; do
+for file in paper/figures/contact_at_T.png paper/figures/zone_map.png eps/eps-1e-2/figures/compare_contact.png; do
   [ -s "$LAB/$file" ] || problem "\$LAB/$file"
 done
 # 6. three dimensions

@@ -12,7 +12,7 @@
 // line's numbers, one row each in dampingFamilies), the friction bound, the statuses, the
 // zones. Second part, derived from it: the family table's use (lookup, checks, messages),
 // the pieces of each slot, their resolvents and relations, the fixed point's local disk
-// solve, and checkLaw, which the kernel runs when a run starts.
+// solve, and checkLaw and checkBound, which the kernel runs when a run starts.
 #ifndef CONTACTLAW_HPP
 #define CONTACTLAW_HPP
 #include <algorithm>
@@ -25,8 +25,9 @@
 namespace contactlaw {
 
 // The data of the law, set from edp/lib/contact.idp: by name (contactKernelParameter), the
-// scene's damping family and its numbers (contactKernelDamping) and, per node, the bound g
-// (contactKernelNodes).
+// scene's damping family and its numbers (contactKernelDamping), its bound_profile or
+// bound_table (contactKernelBoundProfile, contactKernelBoundTable) and, per node, the bound g
+// at its position (contactKernelNodes).
 struct Parameters {
   int damping = 0;       // the family of p: its row in dampingFamilies below
   double cnu = 0;        // option -cnu: C of a family whose first number is C (its default: the scene's C)
@@ -35,8 +36,13 @@ struct Parameters {
   double eps = 1;        // option -eps: penalty parameter
   bool penalty = false;  // option -problem penalty (else the original problem, v_nu <= g)
   bool literal = false;  // option -penaltyform literal (else compliant)
-  double g = 0;          // option -g: the velocity bound, where the scene gives no bound_profile
+  double g = 0;          // option -g: the velocity bound, where the scene gives no bound_profile or bound_table
   std::vector<double> profileX, profileG;   // the scene's bound_profile x0 g0 x1 g1 ... (empty: none)
+  // the scene's bound_table A a1 .. aN B b1 .. bM g G11 .. G1M .. GN1 .. GNM (empty: none): the
+  // axes A, B of the grid (0 x, 1 y, 2 z), its lines along each, and its values row by row,
+  // tableG[i M + j] at (a_i, b_j)
+  int tableAxisA = 0, tableAxisB = 2;
+  std::vector<double> tableA, tableB, tableG;
 };
 
 // A number as the messages of this file write it.
@@ -75,6 +81,9 @@ inline std::string powerCheck(const std::vector<double> &x) {
 inline double keptBetween(double y0, double y1, double s) {
   return std::min(std::max((1 - s) * y0 + s * y1, std::min(y0, y1)), std::max(y0, y1));
 }
+// Where x lies from x0 to x1 (x0 < x1), as a fraction: halved first, so that knots whose
+// distance overflows (-1e308 to 1e308) still give it
+inline double fractionBetween(double x0, double x1, double x) { return (0.5 * x - 0.5 * x0) / (0.5 * x1 - 0.5 * x0); }
 
 // damping table r0 p0 r1 p1 ...: p piecewise linear through the points (numbers: r0 p0 r1 p1
 // ...), from (0, 0), nondecreasing, extended past the last point by its slope. At r > 0, the
@@ -97,7 +106,7 @@ inline double tableResponse(const Parameters &P, double r) {
   const double *point = P.numbers.data() + 2 * k;
   const double r0 = point[0], r1 = point[2], p0 = point[1], p1 = point[3];
   if (r > r1) return p1 + tableSlope(P, r) * (r - r1);
-  return keptBetween(p0, p1, (r - r0) / (r1 - r0));
+  return keptBetween(p0, p1, fractionBetween(r0, r1, r));
 }
 inline std::string tableCheck(const std::vector<double> &x) {
   const int points = (int)x.size() / 2;
@@ -144,17 +153,38 @@ inline double dampedResponseSlope(const Parameters &P, double r) {
 inline double frictionBound(const Parameters &P, double vn) { return P.mu * dampedResponse(P, vn); }
 inline double frictionBoundSlope(const Parameters &P, double vn) { return P.mu * dampedResponseSlope(P, vn); }
 
-// The velocity bound g of a contact node at abscissa x: the option -g, or the scene's
-// bound_profile, piecewise linear in x through its points (between two, keptBetween), constant
-// outside. The kernel gives every node its g from here (contactKernelNodes); the scene reader
-// checks the profile's points (x increasing, every g > 0, the largest at most 1e4 the smallest).
-inline double velocityBound(const Parameters &P, double x) {
-  const std::vector<double> &X = P.profileX, &G = P.profileG;
-  if (X.empty()) return P.g;
-  if (x <= X[0]) return G[0];
+// The cell of a grid X (increasing) that holds x: the points k0, k1 around it and the weight s
+// of X[k1] (x = (1 - s) X[k0] + s X[k1]); outside the grid, its end (k0 = k1, s = 0): constant
+// beyond its first and last points.
+inline void gridCell(const std::vector<double> &X, double x, size_t &k0, size_t &k1, double &s) {
+  s = 0;
+  if (x <= X[0]) { k0 = k1 = 0; return; }
   for (size_t k = 1; k < X.size(); k++)
-    if (x <= X[k]) return keptBetween(G[k - 1], G[k], (x - X[k - 1]) / (X[k] - X[k - 1]));
-  return G.back();
+    if (x <= X[k]) { k0 = k - 1; k1 = k; s = fractionBetween(X[k - 1], X[k], x); return; }
+  k0 = k1 = X.size() - 1;
+}
+
+// The velocity bound g of a contact node at position (x, y, z) (position[3]; z = 0 in 2D): the
+// option -g; or the scene's bound_profile, piecewise linear in x through its points (between
+// two, keptBetween), constant outside; or its bound_table, bilinear on the grid of its two axes
+// (A, B): between the four values around the node, the weighted mean along B of each pair, then
+// of the two along A, each kept between its two values (keptBetween), so g stays between the
+// cell's values; constant beyond the grid's lines (the nearest line's values). The kernel gives
+// every node its g from here (contactKernelNodes) and checks it (checkBound below); the scene
+// reader checks the points (increasing, every g > 0, the largest at most 1e4 the smallest).
+inline double velocityBound(const Parameters &P, const double *position) {
+  size_t a0, a1, b0, b1;
+  double s, t;
+  if (!P.tableG.empty()) {
+    const std::vector<double> &G = P.tableG;
+    const size_t M = P.tableB.size();
+    gridCell(P.tableA, position[P.tableAxisA], a0, a1, s);
+    gridCell(P.tableB, position[P.tableAxisB], b0, b1, t);
+    return keptBetween(keptBetween(G[a0 * M + b0], G[a0 * M + b1], t), keptBetween(G[a1 * M + b0], G[a1 * M + b1], t), s);
+  }
+  if (P.profileX.empty()) return P.g;
+  gridCell(P.profileX, position[0], a0, a1, s);
+  return keptBetween(P.profileG[a0], P.profileG[a1], s);
 }
 
 // The force scale of a node of bound g: p(g), or 1 where p(g) = 0 (a stress is measured
@@ -498,18 +528,33 @@ struct Slots {
   }
 };
 
+// The zones' names are the outputs' column names zone_NAME: each a word of lowercase letters,
+// digits and '_', all different. "" if so, else why not (checkLaw; the scripts ask first,
+// contactKernelZoneProblem, before they name the columns).
+inline std::string zoneNamesProblem() {
+  for (int z = 0; z < zoneCount; z++) {
+    const std::string name = zoneNames[z], index = std::to_string(z);
+    if (name.empty() || name.find_first_not_of("abcdefghijklmnopqrstuvwxyz0123456789_") != std::string::npos)
+      return "zoneNames[" + index + "] = '" + name + "' is not a name of lowercase letters, digits and '_'";
+    for (int y = 0; y < z; y++)
+      if (name == zoneNames[y]) return "zoneNames[" + std::to_string(y) + "] and zoneNames[" + index + "] are both '" + name + "'";
+  }
+  return "";
+}
+
 // Is the law above one the solvers can use? 0 if so; otherwise 1 and a sentence in why.
 // Checked when a run starts, on 65 points r of [-g, 8g] (the range a run's velocities reach;
 // a law can only be sampled): p(r) = p'(r) = 0 for r <= 0; p finite and nondecreasing; the
 // friction bound finite and >= 0; each slope equal to the difference quotient on its left,
 // its right or across r (a kink at r takes the slope on its left); the statuses and zones in
-// their ranges; the force scale p(g) 0 or at least 1e-150 (the residual weighs a stress by
+// their ranges, the zones' names words of their own; the force scale p(g) 0 or at least 1e-150 (the residual weighs a stress by
 // 1/p(g), Slots::setAugmentation).
 inline int checkLaw(const Parameters &P, double g, std::string &why) {
   auto text = lawNumber;
   const double h = 1e-7 * g;
   if (!(h > 0 && std::isfinite(8 * g))) { why = "g = " + text(g) + " is too small or too large to sample the law"; return 1; }
   const double pg = dampedResponse(P, g);
+  if (!std::isfinite(pg)) { why = "p is not finite at the bound: p(g) = " + text(pg); return 1; }   // (the scales below divide by it)
   if (pg > 0 && pg < 1e-150) {
     why = "p(g) = " + text(pg) + " is above 0 but below 1e-150: the residual weighs the stresses by 1/p(g)";
     return 1;
@@ -555,12 +600,55 @@ inline int checkLaw(const Parameters &P, double g, std::string &why) {
       return 1;
     }
   }
+  why = zoneNamesProblem();
+  if (!why.empty()) return 1;
   for (int normal = 0; normal <= 2; normal++)
     for (int tangential = 0; tangential <= 1; tangential++)
       if (zone(normal, tangential) < 0 || zone(normal, tangential) >= zoneCount) {
         why = "zone(" + text(normal) + ", " + text(tangential) + ") is not a zone 0.." + text(zoneCount - 1);
         return 1;
       }
+  return 0;
+}
+
+// Is the bound above, velocityBound with the scene's bound_profile or bound_table, one the
+// solvers can use over the whole of Gamma3? 0 if so (and with -g alone: checkLaw then runs at
+// each node's g); otherwise 1 and a sentence in why. Checked when a run starts, on the grid of
+// the profile (its points x_k) or of the table (its points (a_i, b_j)): at each point, g is that
+// point's value; at the middle of each segment or cell, g lies between the values around it (so
+// g between its points stays within the range the points give, wherever a node lies); each g
+// finite and > 0; and checkLaw at each point's g (the bound's extremes are among them).
+inline int checkBound(const Parameters &P, std::string &why) {
+  const bool table = !P.tableG.empty();
+  const std::vector<double> &A = table ? P.tableA : P.profileX, &G = table ? P.tableG : P.profileG;
+  if (G.empty()) return 0;
+  const int axisA = table ? P.tableAxisA : 0, axisB = table ? P.tableAxisB : 1;
+  const char *const axes = "xyz";
+  const size_t N = A.size(), M = table ? P.tableB.size() : 1;   // (a profile: one line along B)
+  auto lineB = [&](size_t j) { return table ? P.tableB[j] : 0.; };
+  for (size_t i = 0; i + 1 < 2 * N; i++)           // even: a point, odd: the middle of a segment
+    for (size_t j = 0; j + 1 < 2 * M; j++) {
+      const size_t i0 = i / 2, i1 = (i + 1) / 2, j0 = j / 2, j1 = (j + 1) / 2;
+      double position[3] = {0, 0, 0};
+      position[axisA] = 0.5 * A[i0] + 0.5 * A[i1];
+      position[axisB] = 0.5 * lineB(j0) + 0.5 * lineB(j1);
+      const double around[4] = {G[i0 * M + j0], G[i0 * M + j1], G[i1 * M + j0], G[i1 * M + j1]};
+      const double lo = *std::min_element(around, around + 4), hi = *std::max_element(around, around + 4);
+      const bool point = i0 == i1 && j0 == j1;
+      auto where = [&]() {                           // (only for a message)
+        return std::string(table ? "the bound_table's " : "the bound_profile's ") + (point ? "point " : "middle ")
+               + (table ? std::string("(") + axes[axisA] + ", " + axes[axisB] + ") = (" + lawNumber(position[axisA]) + ", "
+                          + lawNumber(position[axisB]) + ")"
+                        : "x = " + lawNumber(position[0]));
+      };
+      const double g = velocityBound(P, position);
+      if (!(std::isfinite(g) && g > 0 && (point ? g == lo : (g >= lo && g <= hi)))) {
+        why = "velocityBound gives g = " + lawNumber(g) + " at " + where() + (point ? ", whose value is " + lawNumber(lo)
+              : ", between points of values " + lawNumber(lo) + " to " + lawNumber(hi)) + " (g must be finite, > 0, and between its points)";
+        return 1;
+      }
+      if (point && checkLaw(P, g, why)) { why += "; at " + where() + ", g = " + lawNumber(g); return 1; }
+    }
   return 0;
 }
 

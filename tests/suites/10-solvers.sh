@@ -110,6 +110,9 @@ done <<'CASES'
 2|contactKernelNewton: call contactKernelDelassus after the last contactKernelFactorize
 3|contactKernelFactorize: C has 32 rows, but contactKernelNodes gave 34 slots
 4|contactKernelNodes: slot numbers must be 0 .. slots-1, each used once
+12|contactKernelBoundTable: as many g as points of the grid
+13|contactKernelNodes: both a bound profile and a bound table are set
+14|contactKernelBoundTable: the axes are two of x, y, z
 10|contactKernelSolve without a successful contactKernelFactorize
 11|contactKernelNewtonStep without a successful contactKernelFactorize
 5|contactKernelRecord: call contactKernelRecordStart
@@ -164,13 +167,14 @@ awk '!/^#/ { vn = $2 > 0 ? $2 : 0; d = $4 - $5 - 1000 * vn * vn; if (d < 0) d = 
   && { echo "the quadratic law gives the paper law's results" >> "$diag"; status=1; }
 report $status "a law changed only in edp/plugins/contactlaw.hpp (p = c r^2): compiled = script Newton = damping power 1000 2 to 1e-9, outputs follow it" "$diag"
 # a law the solvers cannot use is refused when the run starts (exit 3, no output): p' that
-# does not match p (exercise 1 with the slope forgotten), a zone function out of 0..4
-law_refused() { # law_refused NAME OLD NEW REGEX: the copy's law with OLD replaced by NEW
+# does not match p (exercise 1 with the slope forgotten), a zone function out of 0..4, a
+# bound g that leaves the range of its profile's points between them
+law_refused() { # law_refused NAME OLD NEW REGEX [OPTION...]: the copy's law with OLD replaced by NEW
   local name="$1" old="$2" new="$3" regex="$4" diag="$work/otherlaw-$1.diag" status=0 rc=0
   cp edp/plugins/contactlaw.hpp "$law"
   OLD="$old" NEW="$new" "$PYTHON" -c 'import os, sys; p = sys.argv[1]; s = open(p).read(); o, n = os.environ["OLD"], os.environ["NEW"]
 assert o in s, "not found: " + o; open(p, "w").write(s.replace(o, n))' "$law" > "$diag" 2>&1 || status=1
-  (cd "$other" && bash run.sh solve "${otherlaw_options[@]}" -out "$root/$work/otherlaw-$name") >> "$diag" 2>&1 || rc=$?
+  (cd "$other" && bash run.sh solve "${otherlaw_options[@]}" "${@:5}" -out "$root/$work/otherlaw-$name") >> "$diag" 2>&1 || rc=$?
   [ "$rc" = 3 ] || { echo "exit code $rc, expected 3" >> "$diag"; status=1; }
   grep -Eq "$regex" "$diag" || { echo "message does not match /$regex/" >> "$diag"; status=1; }
   [ -e "$work/otherlaw-$name" ] && { echo "results were written" >> "$diag"; status=1; }
@@ -182,6 +186,9 @@ law_refused "a zone out of 0..4" "return normal > 0 ? 2 * normal - tangential : 
   "cannot be used: zone\(2, 1\) is not a zone 0..4"
 law_refused "a negative friction bound" "{ return P.mu * dampedResponse(P, vn); }" "{ return -P.mu * dampedResponse(P, vn); }" \
   "cannot be used: the friction bound is not finite and >= 0"
+law_refused "a bound profile not kept between its points" "  return keptBetween(P.profileG[a0], P.profileG[a1], s);" \
+  "  return keptBetween(P.profileG[a0], P.profileG[a1], s) * (1 + 4 * s * (1 - s));" \
+  "cannot be used: velocityBound gives g = .* at the bound_profile's middle x = 1, between points of values 0.03 to 0.07" -scene bound-profile
 
 # ---- a damping family added in edp/plugins/contactlaw.hpp alone (docs/walkthrough.md,
 # Exercise 1b): the page's own edit, taken from it, applied to a copy of the suite. The scene

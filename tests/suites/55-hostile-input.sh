@@ -42,7 +42,7 @@ rm -rf "$work/late-out" "$work/late-out.before"
 solve "${coarse[@]}" -out "$work/late-out" > /dev/null 2>&1 || status=1
 cp -r "$work/late-out" "$work/late-out.before"
 for fault in 'assert(optionText("T") == "never");' 'real[int] tooShort(2); tooShort[7] = 1;' '{ real[int] kernelWrong(3); contactKernelSolve(kernelWrong, kernelWrong); }'; do
-  for place in 'adaptMesh();' '  recordStep(n, t, v, u, Lam, stepLoad)' 'finishSeries();'; do
+  for place in 'adaptMesh();' '  recordStep(step, t, v, u, Lam, stepLoad)' 'finishSeries();'; do
     cp edp/solve.edp "$faulty/edp/solve.edp"
     awk -v place="$place" -v fault="$fault" '{ print } $0 == place || index($0, place) == 1 { print fault }' edp/solve.edp > "$faulty/edp/solve.edp"
     (cd "$faulty" && bash run.sh solve "${coarse[@]}" -out "$root/$work/late-out") > "$work/late.log" 2>&1
@@ -181,3 +181,31 @@ awk '/^\$Nodes/ { n = 1; print; next } /^\$EndNodes/ { n = 0 } n && $1 == 21 { $
 "$PYTHON" tests/check_results.py "$work/moved" > "$work/moved.log" 2>&1 && { echo "a moved node of mesh.msh passed"; status=1; } >> "$diag"
 grep -q "fields.txt does not list the vertices of mesh.msh in its order" "$work/moved.log" || { echo "no message for the moved node"; cat "$work/moved.log"; status=1; } >> "$diag"
 report $status "check_results.py: a released column passes --column; a node of mesh.msh away from fields.txt fails (2D)" "$diag"
+# ---- the law's values on the command line are named (exit 2), and a bound profile whose knots'
+# distance overflows still interpolates
+expect_failure "-g bound_profile without a bound_profile in the scene" 2 "option -g bound_profile: .*paper.scene gives no bound_profile; give -g a number > 0" "${coarse[@]}" -g bound_profile
+expect_failure "-g 1e-300: p(g) below what the residual can weigh" 2 "option -g 1e-300 with .*paper.scene:[0-9]+ \\(damping\\): the law of edp/plugins/contactlaw.hpp cannot be used: p\\(g\\) = 5e-299" "${coarse[@]}" -g 1e-300
+diag="$work/profile-span.diag"; : > "$diag"; status=0
+sed 's/^g 0.05/bound_profile -1.7e308 0.03 1.7e308 0.07/' edp/scenes/paper.scene > "$work/profile-span.scene"
+rm -rf "$work/profile-span"
+solve -scene "$work/profile-span.scene" "${coarse[@]}" -out "$work/profile-span" >> "$diag" 2>&1 || status=1
+# halfway between knots at -1.7e308 and 1.7e308, every node (x in [0, 2]) has g = 0.05 to round-off
+awk '/^# x / { for (i = 2; i <= NF; i++) if ($i == "g") c = i - 1; next } !/^#/ { if (!(c && $c > 0.05 - 1e-15 && $c < 0.05 + 1e-15)) bad = 1; n++ }
+     END { exit bad || !n }' "$work/profile-span/contact.txt" 2>> "$diag" || { echo "g is not 0.05 at every node"; status=1; } >> "$diag"
+report $status "a bound_profile whose knots are 3.4e308 apart gives g = 0.05 halfway (no overflow to a weight of 0)" "$diag"
+# ---- the tools refuse what they cannot use, in one line
+diag="$work/tools-args.diag"; : > "$diag"; status=0
+out="$("${FREEFEM[@]}" edp/compare.edp -a "$work/profile-span" -ref "$work/profile-span" -a "$work/profile-span" 2>&1)"; rc=$?
+[ "$rc" = 2 ] && grep -q "option -a is given twice" <<< "$out" || { echo "compare -a twice: exit $rc: $out"; status=1; } >> "$diag"
+out="$("${FREEFEM[@]}" edp/compare.edp -a -ref "$work/profile-span" 2>&1)"; rc=$?
+[ "$rc" = 2 ] && grep -q "option -a needs a value" <<< "$out" || { echo "compare -a -ref: exit $rc: $out"; status=1; } >> "$diag"
+for bad in -1 nan 1; do
+  out="$("$PYTHON" tests/check_results.py "$work/profile-span" --rtol "$bad" 2>&1)"; rc=$?
+  [ "$rc" = 2 ] && grep -q "is not a relative tolerance" <<< "$out" || { echo "check_results --rtol $bad: exit $rc: $out"; status=1; } >> "$diag"
+done
+out="$("$PYTHON" tests/check_results.py "$work/no-such-run" 2>&1)"; rc=$?
+[ "$rc" = 1 ] && [ "$(wc -l <<< "$out")" = 1 ] && grep -q "no such folder" <<< "$out" || { echo "check_results on no folder: exit $rc: $out"; status=1; } >> "$diag"
+rm -rf "$work/dup-summary"; cp -r "$work/profile-span" "$work/dup-summary"; echo "zone_free 7" >> "$work/dup-summary/summary.txt"
+out="$("$PYTHON" tests/check_results.py "$work/dup-summary" 2>&1)"; rc=$?
+[ "$rc" = 1 ] && grep -q "the key zone_free is given twice" <<< "$out" || { echo "a key twice in summary.txt: exit $rc: $out"; status=1; } >> "$diag"
+report $status "compare.edp refuses an option twice or without its value; check_results refuses a bad --rtol, a missing folder, a summary key given twice" "$diag"

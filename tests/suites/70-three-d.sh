@@ -1,10 +1,11 @@
 # Three dimensions.
 # Sourced by tests/run_tests.sh, in the order of the file names: it uses the harness's
 # variables and functions (solve, report, work, FREEFEM, PYTHON, coarse_options, ...).
-# ---- 3D (docs/design.md, "Three dimensions"): the disk law on the three Newtons and the
-# fixed point, the slab against the 2D plane-strain solution, a 3D run that repeats itself
+# ---- 3D (docs/design.md, "Three dimensions"): the disk law (and a bound_table) on the three
+# Newtons and the fixed point, the slab against the 2D plane-strain solution, a 3D run that repeats itself
 scene_agreement slide3d -scene oblique-slide3d
 scene_agreement slab3d-coarse -scene slab3d -nx 8 -ny 4 -nz 1 -T 0.2
+scene_agreement table3d -scene bound-table3d
 diag="$work/fixedpoint3d.diag"; : > "$diag"; status=0
 for name in slide3d slab3d-coarse; do
   opts=(-scene oblique-slide3d); [ "$name" = slab3d-coarse ] && opts=(-scene slab3d -nx 8 -ny 4 -nz 1 -T 0.2)
@@ -40,6 +41,106 @@ for f in "${OUTPUT_FILES[@]}"; do
     || { echo "$f differs" >> "$diag"; status=1; }
 done
 report $status "3D: a run repeats itself from its own scene.scene and mesh.msh" "$diag"
+# A bound that varies over a 3D contact face (bound_table: bilinear on a grid over x and z,
+# constant beyond it), pressed so hard that every node of Gamma3 is at its bound. The column g
+# of contact.txt and of contact_nodes_history.txt is the bilinear interpolation of the scene's
+# numbers at each node's (x, z), computed here from the scene line (1e-14 relative); every node
+# has normal status 2 and v_nu = g (check_results.py: the constraint and complementarity
+# against the column g); the run repeats itself from its scene.scene (the table echoed) and
+# mesh.msh; a constant table gives the run of g alone (to 1e-9)
+diag="$work/bound-table3d.diag"; : > "$diag"; status=0
+rm -rf "$work/bound-table3d" "$work/bound-table3d-repeat"
+solve -scene bound-table3d -out "$work/bound-table3d" >> "$diag" 2>&1 || status=1
+"$PYTHON" tests/check_results.py "$work/bound-table3d" >> "$diag" 2>&1 || status=1
+"$PYTHON" - edp/scenes/bound-table3d.scene "$work/bound-table3d" >> "$diag" 2>&1 <<'PY' || status=1
+import sys
+import numpy as np
+sys.path.insert(0, "edp")
+import runfiles
+scene, run = sys.argv[1:]
+words = next(line.split() for line in open(scene) if line.split()[:1] == ["bound_table"])
+# bound_table A a1 .. B b1 .. g G11 .. (row by row: G_ij at (a_i, b_j))
+axisA, posB = words[1], next(k for k in range(2, len(words)) if words[k] in ("x", "y", "z"))
+axisB, posG = words[posB], words.index("g", posB)
+A = np.array(words[2:posB], float); B = np.array(words[posB + 1:posG], float)
+G = np.array(words[posG + 1:], float).reshape(len(A), len(B))
+assert (axisA, axisB) == ("x", "z") and len(A) >= 2 and len(B) >= 2, words
+
+
+def bilinear(a, b):
+    """linear along b on each line a_i (constant beyond B), then linear along a (constant beyond A)"""
+    return np.array([np.interp(p, A, [np.interp(q, B, row) for row in G]) for p, q in zip(a, b)])
+
+
+for name in ("contact.txt", "contact_nodes_history.txt"):
+    c = runfiles.read_table(f"{run}/{name}")
+    expected = bilinear(c[axisA], c[axisB])
+    error = np.max(np.abs(c["g"] - expected) / expected)
+    print(f"{name}: g against the bilinear table, {len(expected)} rows: largest relative difference {error:.3e}")
+    assert error <= 1e-14, name
+c = runfiles.read_table(f"{run}/contact.txt")
+assert np.all(c["normal_status"] == 2), "a node is not at its bound: " + str(c["normal_status"])
+assert np.max(np.abs(c["v_nu"] - c["g"]) / c["g"]) <= 1e-9, "v_nu != g"
+# g varies in both directions of the face, between and beyond the grid's lines
+for fixed, along in (("x", "z"), ("z", "x")):
+    for value in np.unique(c[fixed]):
+        assert np.ptp(c["g"][c[fixed] == value]) > 1e-3, f"g does not vary along {along} at {fixed} = {value}"
+assert np.any(c["z"] < B[0]) and np.any(c["z"] > B[-1]) and np.any((c["x"] > A[0]) & (c["x"] < A[1])), "no node beyond or between the lines"
+PY
+grep -q '^bound_table x 0 0.4.* z 0.1.* g 0.0299' "$work/bound-table3d/scene.scene" && ! grep -q '^g ' "$work/bound-table3d/scene.scene" \
+  && grep -q '^# g bound_table$' "$work/bound-table3d/contact.txt" || { echo "scene.scene or contact.txt's header: no bound_table line, or g" >> "$diag"; status=1; }
+solve -scene "$work/bound-table3d/scene.scene" -mesh "$work/bound-table3d/mesh.msh" -out "$work/bound-table3d-repeat" >> "$diag" 2>&1 || status=1
+for f in "${OUTPUT_FILES[@]}"; do
+  cmp -s <(grep -v -E '^(# )?(scene|out|mesh|mesh_source|scene_file|nx|ny|nz|time_[a-z_]*) ' "$work/bound-table3d/$f") \
+         <(grep -v -E '^(# )?(scene|out|mesh|mesh_source|scene_file|nx|ny|nz|time_[a-z_]*) ' "$work/bound-table3d-repeat/$f") \
+    || { echo "$f differs when repeated from scene.scene" >> "$diag"; status=1; }
+done
+sed 's/^bound_table .*/bound_table x 0 0.4 1 z 0.1 0.9 g 0.05 0.05 0.05 0.05 0.05 0.05/' edp/scenes/bound-table3d.scene > "$work/bound-table3d-constant.scene"
+sed 's/^bound_table .*/g 0.05/' edp/scenes/bound-table3d.scene > "$work/bound-table3d-g.scene"
+for name in constant g; do
+  rm -rf "$work/bound-table3d-$name"
+  solve -scene "$work/bound-table3d-$name.scene" -out "$work/bound-table3d-$name" >> "$diag" 2>&1 || status=1
+done
+"$PYTHON" tests/check_results.py "$work/bound-table3d-constant" --compare "$work/bound-table3d-g" --rtol 1e-9 >> "$diag" 2>&1 || status=1
+report $status "3D: a bound_table over the contact face: contact.txt's g = the bilinear table at each node's (x, z) to 1e-14, every node at its bound (v_nu = g, physics checks), repeated from scene.scene; a constant table = g alone (1e-9)" "$diag"
+# In 2D a bound_table over x and y is g at each node's (x, y): one constant in y is the
+# bound_profile through its values along x (the paper's block of bound-profile.scene)
+diag="$work/bound-table2d.diag"; : > "$diag"; status=0
+grep -v '^bound_profile' edp/scenes/bound-profile.scene > "$work/bound-table2d.scene"; echo "bound_table x 0 2 y 0 1 g 0.03 0.03 0.07 0.07" >> "$work/bound-table2d.scene"
+rm -rf "$work/bound-table2d" "$work/bound-profile2d"
+solve -scene "$work/bound-table2d.scene" -nx 16 -ny 8 -dt 0.05 -out "$work/bound-table2d" >> "$diag" 2>&1 || status=1
+solve -scene bound-profile -nx 16 -ny 8 -dt 0.05 -out "$work/bound-profile2d" >> "$diag" 2>&1 || status=1
+"$PYTHON" tests/check_results.py "$work/bound-table2d" --compare "$work/bound-profile2d" --rtol 1e-9 >> "$diag" 2>&1 || status=1
+report $status "2D: a bound_table over x and y, constant in y, = the bound_profile of its values (1e-9)" "$diag"
+# bad bound_table lines: exit 3 naming the file, the line and what is wrong; with g, -g or a
+# bound_profile; over z in a 2D scene; and a law that is not usable at one of its points
+diag="$work/bound-table-keys.diag"; : > "$diag"; status=0
+while IFS='|' read -r line regex; do
+  { grep -v '^bound_table' edp/scenes/bound-table3d.scene; printf '%s\n' "$line"; } > "$work/key.scene"
+  rm -rf "$work/key"; rc=0; solve -scene "$work/key.scene" -out "$work/key" > "$work/key.log" 2>&1 || rc=$?
+  { [ "$rc" = 3 ] && grep -Eq "key.scene:[0-9]+: .*$regex" "$work/key.log" && [ ! -e "$work/key" ]; } \
+    || { echo "'$line': exit $rc, expected 3 and /$regex/: $(cat "$work/key.log")" >> "$diag"; status=1; }
+done <<'KEYS'
+bound_table x 0 1 z 0 1|cannot read 'bound_table x 0 1 z 0 1': bound_table A a1 a2 ... B b1 b2 ... g G11
+bound_table w 0 1 z 0 1 g 1 1 1 1|cannot read .*: bound_table A a1 a2
+bound_table x 0 1 x 0 1 g 1 1 1 1|bound_table: its two axes must differ, got x twice
+bound_table x 0 1 z g 1 1|bound_table: no point along z
+bound_table x 0 1 z 0 1 g 0.05 0.05 0.05|bound_table: 2 points along x by 2 along z need 4 values of g, got 3
+bound_table x 0 0 z 0 1 g 0.05 0.05 0.05 0.05|bound_table: x: point 2 \(0\) does not come after the one before
+bound_table x 0 1 z 0 1 g 0.05 0.05 0 0.05|bound_table: every g must be > 0, got 0 at \(x, z\) = \(1, 0\)
+bound_table x 0 1 z 0 nan g 0.05 0.05 0.05 0.05|bound_table: z: 'nan' is not a finite number
+bound_table x 0 1 z 0 1 g 0.05 0.05 0.05 1e3|bound_table: its g go from 0.05 to 1000, more than a factor 10000 apart
+KEYS
+report $status "scene keys: bad bound_table lines refused with file, line and what is wrong (the form, the axes, the points, the count of g, g > 0, its range) (exit 3)" "$diag"
+{ grep -v '^bound_table' edp/scenes/bound-table3d.scene; echo "bound_table x 0 1 z 0 1 g 1e307 1e307 1e308 1e308"; } > "$work/table-law.scene"
+expect_failure "a law not finite at a point of a bound_table" 3 "table-law.scene:[0-9]+ \\(damping\\), .*table-law.scene:[0-9]+ \\(bound_table\\): the law of edp/plugins/contactlaw.hpp cannot be used: p is not finite .*at the bound_table's point \\(x, z\\) = \\(0, 0\\)" -scene "$work/table-law.scene"
+{ cat edp/scenes/bound-table3d.scene; echo "g 0.05"; } > "$work/table-g.scene"
+expect_failure "g and bound_table in one scene" 3 "table-g.scene:[0-9]+: g gives one bound for all of Gamma3, but the bound_table of line [0-9]+" -scene "$work/table-g.scene"
+expect_failure "-g with a bound_table" 2 "option -g gives one bound for all of Gamma3, but .*bound-table3d.scene:[0-9]+ gives a bound_table" -scene bound-table3d -g 0.2
+{ cat edp/scenes/bound-table3d.scene; echo "bound_profile 0 0.05 1 0.06"; } > "$work/table-profile.scene"
+expect_failure "bound_profile and bound_table in one scene" 3 "table-profile.scene:[0-9]+: bound_table gives g over Gamma3, but the bound_profile of line [0-9]+ gives it too" -scene "$work/table-profile.scene"
+{ grep -v '^bound_profile' edp/scenes/bound-profile.scene; echo "bound_table x 0 2 z 0 1 g 0.03 0.03 0.07 0.07"; } > "$work/table-z2d.scene"
+expect_failure "a bound_table over z in a 2D scene" 3 "table-z2d.scene:[0-9]+: bound_table over z: a z value, but geometry rectangle is 2D" -scene "$work/table-z2d.scene"
 
 # OUT/scene.scene holds the values the run used: with OUT/mesh.msh it repeats the run, command-
 # line overrides included (outputs identical but for the lines that name the run's own files

@@ -151,4 +151,79 @@ for case in "run_figures contact.txt 13 nan contact.txt:[0-9]+: v_tau2 = nan is 
   [ -e "$broken/figures" ] && { echo "$file: $broken/figures left behind" >> "$diag"; status=1; }
 done
 report $status "a 3D run: every figure, the comparison with a 2D run and the animation (PNG, GIF); corrupt 3D inputs refused" "$diag"
+# Round-off is drawn flat (docs/figures.md, "Round-off is drawn flat"): the figures of a column
+# whose v_nu is g at every node at T (to round-off), of a column pulled off the foundation
+# (every node free, its stresses round-off of 0), and of both in 3D; every axis checked on the
+# figures' matplotlib objects (tests/figure_axes.py): none with an offset text, each one in
+# m/s, GPa, GPa m or GN spanning at least a thousandth of the run's g, p(g) (mu p(g)), p(g)
+# times the area of Gamma3. The runs' premises are checked first.
+diag="$work/figures-flat.diag"; : > "$diag"; status=0
+flat="$work/figures-flat" free="$work/figures-free" flat3d="$work/figures-flat3d" free3d="$work/figures-free3d"
+rm -rf "$flat" "$free" "$flat3d" "$free3d"
+solve -scene column -vtk 5 -quiet -out "$flat" >> "$diag" 2>&1 || { echo "the flat column failed" >> "$diag"; status=1; }
+solve -scene tests/scenes/column-history.scene -T 0.8 -rho 2e-3 -vtk 4 -quiet -out "$free" >> "$diag" 2>&1 \
+  || { echo "the pulled column failed" >> "$diag"; status=1; }
+solve -scene column3d -quiet -out "$flat3d" >> "$diag" 2>&1 || { echo "the flat 3D column failed" >> "$diag"; status=1; }
+solve -scene column3d -load -2 -T 0.2 -rho 2e-3 -quiet -out "$free3d" >> "$diag" 2>&1 \
+  || { echo "the pulled 3D column failed" >> "$diag"; status=1; }
+"$PYTHON" - "$flat" "$flat3d" "$free" "$free3d" >> "$diag" 2>&1 <<'PY' || status=1
+import sys
+sys.path.insert(0, "edp")
+import runfiles
+for folder, flat in zip(sys.argv[1:], (True, True, False, False)):
+    c = runfiles.read_table(folder + "/contact.txt")
+    if flat:      # every node at the bound: v_nu = g to round-off
+        assert (c["normal_status"] == 2).all() and abs(c["v_nu"] - c["g"]).max() <= 1e-9 * c["g"].max(), folder
+    else:         # every node free: p(v_nu) = 0, its stresses round-off of 0
+        assert (c["normal_status"] == 0).all() and abs(c["p_nu"]).max() <= 1e-9 * c["force_scale"].max(), folder
+PY
+"$PYTHON" tests/figure_axes.py "$flat" "$free" "$flat3d" "$free3d" >> "$diag" 2>&1 || status=1
+"$PYTHON" tests/figure_axes.py "$flat3d" "$flat" >> "$diag" 2>&1 || status=1          # compare_contact, 3D first
+for run in "$flat" "$free"; do
+  "$PYTHON" tests/figure_axes.py --paper "$run" >> "$diag" 2>&1 || status=1
+done
+report $status "round-off drawn flat: v_nu = g and an all-free Gamma3 (2D, 3D, the paper's figures, the animation): no offset, every axis spans a thousandth of g, p(g), p(g) |Gamma3|" "$diag"
+
+# Runs made by different versions of the suite (summary.txt: suite_version) drawn or compared
+# together: compare_contact.png's title, the paper's figures and tables.py --compare say so;
+# with the same version, or none, nothing is said.
+diag="$work/figures-versions.diag"; : > "$diag"; status=0
+va="$work/figures-version-a" vb="$work/figures-version-b"
+rm -rf "$va" "$vb"; cp -r "$flat" "$va"; cp -r "$flat" "$vb"; rm -rf "$va/figures" "$vb/figures"
+for version in none same different; do
+  sed -i '/^suite_version /d' "$va/summary.txt" "$vb/summary.txt"
+  case $version in
+    same) echo "suite_version 1.0" | tee -a "$va/summary.txt" >> "$vb/summary.txt" ;;
+    different) echo "suite_version 1.0" >> "$va/summary.txt"; echo "suite_version 2.0-test" >> "$vb/summary.txt" ;;
+  esac
+  "$PYTHON" - "$va" "$vb" "$version" >> "$diag" 2>&1 <<'PY' || status=1
+import os, sys, tempfile
+sys.path[:0] = ["edp", "plots"]
+import figures, run_figures, style
+a, b, version = sys.argv[1:]
+expected = {"compare_contact": "figures-version-a (1.0); figures-version-b (2.0-test)",   # the runs' folders
+            "fig4": "paper-original (1.0); paper-penalty (2.0-test)"}                    # (the names in DIR)
+title = run_figures.compare_contact([run_figures.Run(a), run_figures.Run(b)]).axes[0].get_title()
+drawn = []
+style.save = lambda fig, out, name, tight_layout=True: drawn.append(fig)
+with tempfile.TemporaryDirectory() as results:
+    os.symlink(os.path.abspath(a), os.path.join(results, "paper-original"))
+    os.symlink(os.path.abspath(b), os.path.join(results, "paper-penalty"))
+    figures.fig4_velocities(results, results)
+suptitle = drawn[0]._suptitle.get_text().replace("\n", " ") if drawn[0]._suptitle else ""
+for where, text in (("compare_contact", title), ("fig4", suptitle)):
+    if version == "different":
+        assert "runs made by different versions of the suite: " + expected[where] in text, f"{version}: {where}: {text!r}"
+    else:
+        assert "different versions" not in text, f"{version}: {where}: {text!r}"
+PY
+  "$PYTHON" plots/tables.py --compare "$va" "$vb" > "$work/figures-versions.log" 2>> "$diag" || status=1
+  if [ "$version" = different ]; then
+    grep -q "^tables.py: note: runs made by different versions of the suite: .*figures-version-a (1.0); .*figures-version-b (2.0-test)$" \
+      "$work/figures-versions.log" || { echo "$version: tables.py --compare said no note:" >> "$diag"; cat "$work/figures-versions.log" >> "$diag"; status=1; }
+  else
+    grep -q "different versions" "$work/figures-versions.log" && { echo "$version: tables.py --compare noted versions" >> "$diag"; status=1; }
+  fi
+done
+report $status "runs of different suite_version drawn or compared together: compare_contact, the paper's figures and tables.py --compare say so (same or no version: nothing)" "$diag"
 # ---- end figures

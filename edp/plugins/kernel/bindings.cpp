@@ -19,7 +19,7 @@
 //   contactKernelParameter(string name, real value)  a parameter, by its option name: cnu, mu,
 //       g, eps, problem (0 original, 1 penalty), penaltyform (0 compliant, 1 literal), tol, maxit,
 //       safeguard (0/1), r, dt, ordering (of S's factorization: 0 CAMD, 1 METIS on the
-//       interior), verbose (0/1)
+//       interior), verbose (0/1), step_offset (the steps before the record: a restart)
 //   contactKernelDampingFamily(string name)  the damping family of that name (dampingFamilies
 //       of contactlaw.hpp), -1 if none
 //   contactKernelDampingHasC(int family)  1 if the family's first number is C (-cnu overrides it)
@@ -31,12 +31,17 @@
 //       scene line gives them; C itself comes with contactKernelParameter("cnu", ...))
 //   contactKernelBoundProfile(real[int] x, real[int] g)  the scene's bound_profile (x
 //       increasing; empty arrays: none, g is contactKernelParameter("g", ...) everywhere)
-//   contactKernelNodes(real[int] x, real[int] w, int[int] normalSlot, int[int] tangentSlot,
-//       int[int] tangentSlot2)  the contact nodes: abscissa (each node's velocity bound g is the
-//       law's at x, velocityBound of contactlaw.hpp), weight, slots (-1: none; tangentSlot2, the second tangential slot of a 3D node, makes a pair
+//   contactKernelBoundTable(string axes, real[int] a, real[int] b, real[int] g)  the scene's
+//       bound_table: its axes ("xz": any two of x, y, z), its grid along each (increasing) and
+//       its values row by row (g[i b.n + j] at (a_i, b_j)); empty arrays: none (not both a
+//       profile and a table)
+//   contactKernelNodes(real[int] x, real[int] y, real[int] z, real[int] w, int[int] normalSlot,
+//       int[int] tangentSlot, int[int] tangentSlot2)  the contact nodes: position (z = 0 in 2D;
+//       each node's velocity bound g is the law's there, velocityBound of contactlaw.hpp),
+//       weight, slots (-1: none; tangentSlot2, the second tangential slot of a 3D node, makes a pair
 //       with tangentSlot under the disk law, or is alone where a Dirichlet condition fixes the
-//       first tangent); returns 1 if the law of contactlaw.hpp is unusable (checkLaw; then
-//       contactKernelLawProblem(string prefix) gives prefix + the reason)
+//       first tangent); returns 1 if the law of contactlaw.hpp or its bound is unusable
+//       (checkBound, checkLaw; then contactKernelLawProblem(string prefix) gives prefix + the reason)
 //   contactKernelNodeVelocity(matrix O)  v -> (v_nu, v_tau) of every node (rows 2i, 2i + 1; in
 //       3D (v_nu, v_tau, v_tau2), rows 3i, 3i + 1, 3i + 2): what the nodes report
 //   contactKernelNodeFrames(real[int,int] frame, real[int] mean)  3D: each node's n, t1, t2 and
@@ -44,6 +49,7 @@
 //   contactKernelNodeBounds(real[int] g)  each node's velocity bound g (the law's)
 //   contactKernelDampingSlope(real[int] Kn)  Kn per slot (p'(g) on normal slots), folded into S
 //   contactKernelZones()  how many zones the law has (contactlaw.hpp, zone)
+//   contactKernelZoneProblem(0)  why the zones' names cannot name columns ("" if they can)
 //   contactKernelZoneName(int z)  zone z's name, as the outputs spell it (free, damped_slip, ...)
 // S and the back-substitutions (factorization.cpp, products.cpp)
 //   contactKernelFactorize(matrix S, matrix C)  returns 0, or 1 (S not positive definite),
@@ -217,14 +223,20 @@ long boundProfile(KN<double> *const &px, KN<double> *const &pg) {
   return 0;
 }
 
-long nodes(KN<double> *const &px, KN<double> *const &pw, KN<long> *const &pns, KN<long> *const &pts, KN<long> *const &pts2) {
+long boundTable(string *const &axes, KN<double> *const &pa, KN<double> *const &pb, KN<double> *const &pg) {
+  setBoundTable(kernel(), *axes, copyOf(*pa), copyOf(*pb), copyOf(*pg));
+  return 0;
+}
+
+long nodes(KN<double> *const &px, KN<double> *const &py, KN<double> *const &pz, KN<double> *const &pw, KN<long> *const &pns,
+           KN<long> *const &pts, KN<long> *const &pts2) {
   const int nn = px->N();
-  if (pw->N() != nn || pns->N() != nn || pts->N() != nn || pts2->N() != nn)
+  if (py->N() != nn || pz->N() != nn || pw->N() != nn || pns->N() != nn || pts->N() != nn || pts2->N() != nn)
     ExecError("contactKernelNodes: wrong argument sizes");
-  std::vector<double> x = copyOf(*px), w = copyOf(*pw);
+  std::vector<double> x = copyOf(*px), y = copyOf(*py), z = copyOf(*pz), w = copyOf(*pw);
   std::vector<long> ns(nn), ts(nn), ts2(nn);
   for (int i = 0; i < nn; i++) { ns[i] = (*pns)[i]; ts[i] = (*pts)[i]; ts2[i] = (*pts2)[i]; }
-  return setNodes(kernel(), nn, x.data(), w.data(), ns.data(), ts.data(), ts2.data());
+  return setNodes(kernel(), nn, x.data(), y.data(), z.data(), w.data(), ns.data(), ts.data(), ts2.data());
 }
 long nodeBounds(KN<double> *const &pg) {
   requireNodes(kernel(), "contactKernelNodeBounds");
@@ -232,6 +244,7 @@ long nodeBounds(KN<double> *const &pg) {
   return 0;
 }
 long zones() { return contactlaw::zoneCount; }
+string *zoneProblem(Stack stack, const long &) { return newString(stack, contactlaw::zoneNamesProblem()); }
 string *zoneName(Stack stack, const long &z) {
   if (z < 0 || z >= contactlaw::zoneCount) ExecError("contactKernelZoneName: no zone " + std::to_string(z));
   return newString(stack, contactlaw::zoneNames[z]);
@@ -528,7 +541,7 @@ void writeHistoryRow(Kernel &k, const KN<double> &rec) {
   if (info.N() < solverInfoColumnCount || history.N() < historyColumnCount * n)
     ExecError("contactKernelRecord: the history array holds fewer rows than the steps recorded");
   const long h = historyColumnCount * (n - 1);
-  history[h + HistoryT] = n * k.settings.dt;
+  history[h + HistoryT] = (k.settings.stepOffset + n) * k.settings.dt;   // steps numbered on after a restart
   history[h + HistoryIterations] = info[InfoIterations];
   history[h + HistoryResidual] = info[InfoResidual];
   for (int c = 0; c < recordColumnCount; c++) history[h + historyRecordStart + c] = rec[c];
@@ -646,9 +659,11 @@ static void Load_Init() {
   Global.Add("contactKernelDampingText", "(", new OneOperator1s_<string *, string *>(dampingText));
   Global.Add("contactKernelDamping", "(", new OneOperator2_<long, long, Array>(damping));
   Global.Add("contactKernelBoundProfile", "(", new OneOperator2_<long, Array, Array>(boundProfile));
-  Global.Add("contactKernelNodes", "(", new OneOperator5_<long, Array, Array, Integers, Integers, Integers>(nodes));
+  Global.Add("contactKernelBoundTable", "(", new OneOperator4_<long, string *, Array, Array, Array>(boundTable));
+  Global.Add("contactKernelNodes", "(", new OneOperator7_<long, Array, Array, Array, Array, Integers, Integers, Integers>(nodes));
   Global.Add("contactKernelNodeBounds", "(", new OneOperator1_<long, Array>(nodeBounds));
   Global.Add("contactKernelZones", "(", new OneOperator0<long>(zones));
+  Global.Add("contactKernelZoneProblem", "(", new OneOperator1s_<string *, long>(zoneProblem));
   Global.Add("contactKernelZoneName", "(", new OneOperator1s_<string *, long>(zoneName));
   Global.Add("contactKernelLawProblem", "(", new OneOperator1s_<string *, string *>(lawProblem));
   Global.Add("contactKernelNodeVelocity", "(", new OneOperator1_<long, Matrix>(nodeVelocity));

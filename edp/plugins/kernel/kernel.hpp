@@ -16,12 +16,16 @@ void deleteKernel(long id);             // not the current one
 // ---- nodes.cpp: the contact nodes and the law's data
 void setParameter(Kernel &k, const std::string &name, double value);
 void setDampingFamily(Kernel &k, int family, const std::vector<double> &numbers);
-// the bound profile (x increasing; empty: the parameter g everywhere)
+// the bound profile (x increasing; empty: the parameter g everywhere, or the bound table)
 void setBoundProfile(Kernel &k, const std::vector<double> &x, const std::vector<double> &g);
-// the nodes, each with its g from the law (velocityBound): returns 1 if the law is unusable
-// (then k.nodes.lawProblem says why)
-int setNodes(Kernel &k, int count, const double *x, const double *w, const long *normalSlot, const long *tangentSlot,
-             const long *tangentSlot2);
+// the bound table: axes "xz" (any two of x, y, z), the grid along each (increasing), the
+// values row by row (g[i b.size() + j] at (a_i, b_j)); empty: none
+void setBoundTable(Kernel &k, const std::string &axes, const std::vector<double> &a, const std::vector<double> &b,
+                   const std::vector<double> &g);
+// the nodes at (x, y, z) (z = 0 in 2D), each with its g from the law there (velocityBound):
+// returns 1 if the law or the bound is unusable (then k.nodes.lawProblem says why)
+int setNodes(Kernel &k, int count, const double *x, const double *y, const double *z, const double *w, const long *normalSlot,
+             const long *tangentSlot, const long *tangentSlot2);
 void requireNodes(const Kernel &k, const char *who);
 void setNodeObservation(Kernel &k, const SparseTriplets &O);
 void setNodeFrames(Kernel &k, const std::vector<double> &frames, const double mean[6]);

@@ -3,6 +3,7 @@
 // here, when a run starts), the observation v -> (v_nu, v_tau) of every node, its frames (3D).
 #include <algorithm>
 #include <cfloat>
+#include <cmath>
 #include <cstdio>
 #include <utility>
 #include "kernel.hpp"
@@ -28,6 +29,10 @@ void setParameter(Kernel &k, const std::string &name, double given) {
     else if (name == "safeguard") settings.safeguards = value != 0;
     else if (name == "r") settings.r = value;
     else if (name == "dt") settings.dt = value;
+    else if (name == "step_offset") {
+      if (!(value >= 0 && value <= 1e9 && value == std::floor(value))) kernelError("contactKernelParameter: step_offset must be a whole number >= 0");
+      settings.stepOffset = (long)value;
+    }
     else if (name == "verbose") settings.verbose = value != 0;
     else if (name == "ordering") settings.ordering = (int)value;
     else kernelError("contactKernelParameter: unknown parameter '" + name + "'");
@@ -54,8 +59,32 @@ void setBoundProfile(Kernel &k, const std::vector<double> &x, const std::vector<
   k.nodes.ready = false;
 }
 
-// every node's g from the law (velocityBound), at its x
-int setNodes(Kernel &k, int nn, const double *x, const double *w, const long *ns, const long *ts, const long *ts2) {
+void setBoundTable(Kernel &k, const std::string &axes, const std::vector<double> &a, const std::vector<double> &b,
+                   const std::vector<double> &g) {
+  Parameters &P = k.law.P;
+  k.nodes.ready = false;
+  if (a.empty() && b.empty() && g.empty()) { P.tableA.clear(); P.tableB.clear(); P.tableG.clear(); return; }   // none
+  const std::string names = "xyz";
+  const size_t axisA = axes.size() == 2 ? names.find(axes[0]) : std::string::npos;
+  const size_t axisB = axes.size() == 2 ? names.find(axes[1]) : std::string::npos;
+  if (axisA == std::string::npos || axisB == std::string::npos || axisA == axisB)
+    kernelError("contactKernelBoundTable: the axes are two of x, y, z, as \"xz\", not '" + axes + "'");
+  if (a.empty() || b.empty() || g.size() != a.size() * b.size())
+    kernelError("contactKernelBoundTable: as many g as points of the grid, a.n * b.n, expected (or none at all)");
+  for (const std::vector<double> *line : {&a, &b})
+    for (size_t j = 1; j < line->size(); j++)
+      if (!((*line)[j] > (*line)[j - 1])) kernelError("contactKernelBoundTable: the grid's points must increase along each axis");
+  for (double value : g)
+    if (!(std::isfinite(value) && value > 0)) kernelError("contactKernelBoundTable: every g must be finite and > 0");
+  P.tableAxisA = (int)axisA; P.tableAxisB = (int)axisB;
+  P.tableA = a; P.tableB = b; P.tableG = g;
+}
+
+// every node's g from the law (velocityBound), at its position (x, y, z)
+int setNodes(Kernel &k, int nn, const double *x, const double *y, const double *z, const double *w, const long *ns,
+             const long *ts, const long *ts2) {
+  if (!k.law.P.profileX.empty() && !k.law.P.tableG.empty())
+    kernelError("contactKernelNodes: both a bound profile and a bound table are set (contactKernelBoundProfile, contactKernelBoundTable): one of them");
   int slots = 0;
   for (int i = 0; i < nn; i++) slots += (ns[i] >= 0) + (ts[i] >= 0) + (ts2[i] >= 0);
   std::vector<int> owner(slots, -1);
@@ -69,8 +98,18 @@ int setNodes(Kernel &k, int nn, const double *x, const double *w, const long *ns
   Slots &law = k.law;
   nodes = ContactNodes();
   k.factor.release();          // S's factor and the Delassus matrix belonged to the old nodes' slots
+  std::string why;
+  if (checkBound(law.P, why)) {                  // the bound over the profile's or table's grid, and the law at its points
+    char data[160];
+    std::snprintf(data, sizeof data, " (c_nu = %g, mu = %g)", law.P.cnu, law.P.mu);
+    nodes.lawProblem = "the law of edp/plugins/contactlaw.hpp cannot be used: " + why + data;
+    return 1;
+  }
   std::vector<double> g(nn);
-  for (int i = 0; i < nn; i++) g[i] = velocityBound(law.P, x[i]);
+  for (int i = 0; i < nn; i++) {
+    const double position[3] = {x[i], y[i], z[i]};
+    g[i] = velocityBound(law.P, position);
+  }
   nodes.x.assign(x, x + nn); nodes.weight.assign(w, w + nn); nodes.g = g;
   nodes.normalSlot.assign(ns, ns + nn); nodes.tangentSlot.assign(ts, ts + nn); nodes.tangentSlot2.assign(ts2, ts2 + nn);
   nodes.slotWeight.assign(slots, 0.);
@@ -83,7 +122,6 @@ int setNodes(Kernel &k, int nn, const double *x, const double *w, const long *ns
     for (long s : {ns[i], ts[i], ts2[i]}) if (s >= 0) nodes.slotWeight[s] = w[i];
   }
   for (int j = 0; j < slots; j++) { law.setBound(j, g[owner[j]]); law.setAugmentation(j, k.settings.r); }
-  std::string why;
   for (int i = 0; i < nn; i++)
     if (checkLaw(law.P, g[i], why)) {
       char data[160];

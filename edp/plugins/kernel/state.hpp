@@ -64,6 +64,7 @@ struct ContactNodes {
 
 struct SolverSettings {
   double tol = 1e-10, r = 1, dt = 0;
+  long stepOffset = 0;                                   // steps before the first recorded (a restart): t = (offset + n) dt
   int maxit = 50;
   bool safeguards = true;
   bool verbose = false;                        // -verbose: the Newton log (logIteration)

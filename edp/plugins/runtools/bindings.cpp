@@ -57,6 +57,18 @@ double runEnvironmentSeconds(string *const &name) {
     fail(2, "the environment variable " + *name + " = '" + text + "' is not a number of seconds >= 0");
   return value;
 }
+string *newString(Stack stack, const std::string &text) { return Add2StackOfPtr2Free(stack, new string(text)); }
+// the versions of what makes a run (summary.txt, the outputs' headers)
+string *runSuiteVersion(Stack stack, string *const &repository) { return newString(stack, suiteVersion(*repository)); }
+string *runGmshVersion(Stack stack, const long &) { return newString(stack, gmshVersion()); }
+// state.cpp: the state file of -restart
+string *runStateKey(Stack stack, string *const &path, string *const &key) { return newString(stack, stateKey(*path, *key)); }
+long runStateValues(string *const &path, string *const &quantity, KN<double> *const &out) {
+  const std::vector<double> values = stateValues(*path, *quantity);
+  out->resize((long)values.size());
+  for (size_t i = 0; i < values.size(); i++) (*out)[(long)i] = values[i];
+  return (long)values.size();
+}
 
 // Global.Add for a function of 0 to 3 arguments, its FreeFEM operator from its type
 template <class R> void add(const char *name, R (*f)()) { Global.Add(name, "(", new OneOperator0<R>(f)); }
@@ -108,6 +120,11 @@ static void Load_Init() {
   add("runGmsh", runGmsh);                         // (geo, out, "NAME VALUE ..."): gmsh's exit status, 127 if it cannot start
   add("runFreeFem", runFreeFem);                   // (program, arguments one a line, log): a pilot run's exit status
   add("runRestartWith", runRestartWith);           // (argument): this program again with it; returns 1 only if that fails
+  Global.Add("runSuiteVersion", "(", new OneOperator1s_<string *, string *>(runSuiteVersion));   // (repository): git describe --always --dirty, or its VERSION
+  Global.Add("runGmshVersion", "(", new OneOperator1s_<string *, long>(runGmshVersion));      // (0): gmsh --version
+  // state.cpp
+  Global.Add("runStateKey", "(", new OneOperator2s_<string *, string *, string *>(runStateKey));   // (path, key): a "# key value" header line's value, "" if none
+  Global.Add("runStateValues", "(", new OneOperator3_<long, string *, string *, KN<double> *>(runStateValues));   // (path, quantity, out): its values; exit 3 on a malformed file
   // meshcheck.cpp, samedomain.cpp
   Global.Add("runCheckMesh", "(", new OneOperator6_<long, string *, string *, string *, string *, string *, long>(runCheckMesh));
   //   (in, out, required, dirichlet, what, fatal): an MSH 2.2 file checked and written to out; exit 3, or 1 when not fatal

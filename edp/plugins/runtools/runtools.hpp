@@ -53,6 +53,11 @@ long long posixChecksum(const std::string &path);
 
 // ---------------------------------------------------------------- spawn.cpp
 void checkCommandLine();
+std::string suiteVersion(const std::string &repository);   // git describe, or VERSION, or unknown
+std::string gmshVersion();                                  // gmsh --version
+// ---------------------------------------------------------------- state.cpp
+std::string stateKey(const std::string &path, const std::string &key);
+std::vector<double> stateValues(const std::string &path, const std::string &quantity);
 
 // ---------------------------------------------------------------- the FreeFEM functions (bindings.cpp adds them)
 // messages.cpp

@@ -73,7 +73,74 @@ bool freefemOption(const std::string &a, bool &takesValue) {
   takesValue = withValue.count(a) > 0;
   return takesValue || alone.count(a) > 0;
 }
+
+// What a program writes first (its standard output and error, the first line, blanks trimmed),
+// without a shell; "" when it cannot start or does not exit 0.
+std::string firstLineOf(const std::vector<std::string> &args) {
+  int fd[2];
+  if (pipe(fd) != 0) return "";
+  const pid_t parent = getpid();
+  const pid_t child = fork();
+  if (child < 0) { close(fd[0]); close(fd[1]); return ""; }
+  if (child == 0) {                                // system calls only until exec
+    prctl(PR_SET_PDEATHSIG, SIGKILL);
+    if (getppid() != parent) _exit(127);
+    const int none = open("/dev/null", O_RDONLY);
+    if (none >= 0) dup2(none, 0);
+    dup2(fd[1], 1); dup2(fd[1], 2);
+    close(fd[0]); close(fd[1]);
+    std::vector<char *> argv;
+    for (auto &a : args) argv.push_back(const_cast<char *>(a.c_str()));
+    argv.push_back(nullptr);
+    execvp(argv[0], argv.data());
+    _exit(127);
+  }
+  close(fd[1]);
+  runningChild = child;
+  std::string text;
+  char buffer[4096];
+  for (;;) {
+    const ssize_t got = read(fd[0], buffer, sizeof buffer);
+    if (got > 0) { if (text.size() < 65536) text.append(buffer, (size_t)got); continue; }
+    if (got < 0 && errno == EINTR) continue;
+    break;
+  }
+  close(fd[0]);
+  int status = 0;
+  while (waitpid(child, &status, 0) < 0 && errno == EINTR) {}
+  runningChild = 0;
+  if (!WIFEXITED(status) || WEXITSTATUS(status) != 0) return "";
+  text = text.substr(0, text.find('\n'));
+  const size_t first = text.find_first_not_of(" \t\r"), last = text.find_last_not_of(" \t\r");
+  return first == std::string::npos ? "" : text.substr(first, last - first + 1);
+}
+
+// A version as one word of the outputs: blanks and control characters become '_', "unknown"
+// when empty.
+std::string versionWord(std::string text) {
+  for (char &c : text) if ((unsigned char)c <= ' ' || (unsigned char)c == 0x7f) c = '_';
+  return text.empty() ? "unknown" : text;
+}
+
 }  // namespace
+
+// The suite's version (docs/design.md, "Output files"): in a git checkout of repository,
+// `git describe --always --dirty` (read-only: --no-optional-locks takes no index lock);
+// else the first line of repository/VERSION, the version written at release; else unknown.
+std::string suiteVersion(const std::string &repository) {
+  std::string version;
+  if (access((repository + "/.git").c_str(), F_OK) == 0)
+    version = firstLineOf({"git", "--no-optional-locks", "-C", repository, "describe", "--always", "--dirty"});
+  if (version.empty()) {
+    std::ifstream f(repository + "/VERSION");
+    std::getline(f, version);
+  }
+  return versionWord(version);
+}
+
+// gmsh's version, as `gmsh --version` prints it
+std::string gmshVersion() { return versionWord(firstLineOf({"gmsh", "--version"})); }
+
 
 // An option value of the user's that reads like a macro or an option of FreeFem++ (a file
 // named "-DNAME=...") would change the script or run FreeFEM code: every such argument is

@@ -1,0 +1,88 @@
+// state.cpp: the state file of a run, OUT/state.txt, read by a run started with -restart OUT
+// (docs/design.md, "Restart"). Its lines: the run's "# name value" lines (the options, the
+// versions, then restart_step, restart_time, mesh_checksum, dimension), the column header
+// "# quantity index value", then one row per value: the quantity (u, v, fixed, multiplier,
+// slot_velocity), its index (0, 1, ... in order) and the value (17 digits). Read strictly: a
+// row of another form, an index out of order, a value that is not a finite number, a last line
+// without its line end (a truncated file) stop the run with exit 3, naming the file and line.
+#include "runtools.hpp"
+#include <cerrno>
+#include <cmath>
+#include <cstdlib>
+#include <fstream>
+#include <sstream>
+
+namespace runtools {
+
+namespace {
+const char *columnHeader = "# quantity index value";
+const char *quantities[] = {"u", "v", "fixed", "multiplier", "slot_velocity"};
+
+[[noreturn]] void stateFail(const std::string &path, long line, const std::string &what) {
+  fail(3, shown(path) + (line > 0 ? ":" + std::to_string(line) : "") + ": " + what
+          + " (the state a run writes for -restart: rebuild it by running that case again)");
+}
+
+std::vector<std::string> wordsOf(const std::string &line) {
+  std::vector<std::string> words;
+  std::istringstream in(line);
+  std::string w;
+  while (in >> w) words.push_back(w);
+  return words;
+}
+
+// Every line of the file, each checked to end with a line feed.
+std::vector<std::string> stateLines(const std::string &path) {
+  std::ifstream f(path, std::ios::binary);
+  if (!f) stateFail(path, 0, "cannot be read");
+  std::string text((std::istreambuf_iterator<char>(f)), std::istreambuf_iterator<char>());
+  if (text.empty()) stateFail(path, 0, "is empty");
+  if (text.back() != '\n') stateFail(path, 0, "its last line has no line end: the file is truncated");
+  std::vector<std::string> lines;
+  size_t start = 0;
+  for (size_t end; (end = text.find('\n', start)) != std::string::npos; start = end + 1) lines.push_back(text.substr(start, end - start));
+  return lines;
+}
+}  // namespace
+
+// The value of the first header line "# key value" (one word) of the state file at path; ""
+// when it has none.
+std::string stateKey(const std::string &path, const std::string &key) {
+  for (const std::string &line : stateLines(path)) {
+    if (line.empty() || line[0] != '#') break;
+    const std::vector<std::string> w = wordsOf(line.substr(1));
+    if (w.size() == 2 && w[0] == key) return w[1];
+  }
+  return "";
+}
+
+// The values of quantity, in the order of their indexes; the whole file is checked.
+std::vector<double> stateValues(const std::string &path, const std::string &quantity) {
+  const std::vector<std::string> lines = stateLines(path);
+  size_t k = 0;
+  while (k < lines.size() && !lines[k].empty() && lines[k][0] == '#') k++;
+  if (k == 0 || lines[k - 1] != columnHeader)
+    stateFail(path, (long)k, std::string("the last header line is not '") + columnHeader + "'");
+  std::vector<double> values;
+  std::vector<long> next(sizeof quantities / sizeof *quantities, 0);
+  for (; k < lines.size(); k++) {
+    const std::vector<std::string> w = wordsOf(lines[k]);
+    const long line = (long)k + 1;
+    if (w.size() != 3) stateFail(path, line, "not a row 'quantity index value'");
+    size_t q = 0;
+    while (q < next.size() && w[0] != quantities[q]) q++;
+    if (q == next.size()) stateFail(path, line, "unknown quantity '" + w[0] + "' (u, v, fixed, multiplier, slot_velocity)");
+    char *end = nullptr;
+    errno = 0;
+    const long index = std::strtol(w[1].c_str(), &end, 10);
+    if (*end || errno || index != next[q]) stateFail(path, line, "index " + w[1] + " of " + w[0] + ", expected " + std::to_string(next[q]));
+    next[q]++;
+    errno = 0;
+    const double value = std::strtod(w[2].c_str(), &end);
+    if (*end || !std::isfinite(value)) stateFail(path, line, "'" + w[2] + "' is not a finite number");
+    if (w[0] == quantity) values.push_back(value);
+  }
+  return values;
+}
+
+}  // namespace runtools

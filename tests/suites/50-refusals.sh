@@ -79,7 +79,7 @@ expect_failure "script kernel with another solver" 2 "option -kernel script appl
 expect_failure "unknown umfpackfloor" 2 "option -umfpackfloor = 'yes' is not one of on.off" -umfpackfloor yes
 expect_failure "unknown penalty form" 2 "option -penaltyform = 'soft' is not one of compliant.literal" -penaltyform soft
 expect_failure "unknown scene" 2 "option -scene = 'moon'" -scene moon
-expect_failure "scene file with a bad line" 3 "cannot read 'gravity 9.81'" -scene tests/data/bad.scene
+expect_failure "scene file with a bad line" 3 "bad.scene:5: unknown key 'gravity'; the keys of a scene: " -scene tests/data/bad.scene
 grep -v '^nx ' edp/scenes/column.scene > "$work/nx0.scene"; echo "nx 0" >> "$work/nx0.scene"
 expect_failure "an option out of range in a scene file" 3 "nx0.scene:[0-9]+: option -nx = 0 is out of range: it must be >= 1 \(a value of the scene file\)" -scene "$work/nx0.scene"
 # the option table edp/options.txt is checked when it is read: a copy of edp/ with one line changed

@@ -7,15 +7,26 @@ for flag in -help -h --help; do
   rc=0; solve -scene column "$flag" > "$work/help.txt" 2> "$work/help.err" || rc=$?
   [ "$rc" = 0 ] && [ ! -s "$work/help.err" ] || { echo "$flag: exit $rc" >> "$diag"; cat "$work/help.err" >> "$diag"; status=1; }
 done
-# every option of edp/options.txt, and the same options as the README's table, with the scene's default
+# the options that apply to the scene's body, with the scene's defaults: a 2D scene's all but
+# -nz, a 3D scene's (slab3d) all but -plane; together every option of edp/options.txt, and the
+# README's table: the paper scene's, and -nz (3D only)
+solve -scene paper -help > "$work/help-paper.txt" 2>> "$diag" || status=1
+solve -scene slab3d -help > "$work/help-3d.txt" 2>> "$diag" || status=1
+help_names() { grep -o -- '^  -[a-zA-Z_]*' "$1" | tr -d ' '; }
 for name in $(awk '!/^#/ && NF >= 5 && $1 != "when" { print $1 }' edp/options.txt); do
-  grep -q -- "^  -${name}  " "$work/help.txt" || { echo "-help does not list -${name}" >> "$diag"; status=1; }
+  cat "$work/help-paper.txt" "$work/help-3d.txt" | grep -q -- "^  -${name}  " || { echo "-help does not list -${name}" >> "$diag"; status=1; }
 done
+grep -q -- '^  -nz  ' "$work/help.txt" "$work/help-paper.txt" && { echo "a 2D scene's -help lists -nz" >> "$diag"; status=1; }
+grep -q -- '^  -plane  ' "$work/help-3d.txt" && { echo "slab3d's -help lists -plane" >> "$diag"; status=1; }
+grep -q '^options of a 3D run' "$work/help-3d.txt" && grep -q '^options of a 2D run' "$work/help-paper.txt" || { echo "-help does not name the dimension" >> "$diag"; status=1; }
 readme_options=$(awk -F'|' '/^\| `-/ { print $2 }' README.md | grep -o -- '`-[a-zA-Z_]*`' | tr -d '`' | sort | tr '\n' ' ')
-help_options=$(grep -o -- '^  -[a-zA-Z_]*' "$work/help.txt" | tr -d ' ' | sort | tr '\n' ' ')
-[ "$readme_options" = "$help_options" ] || { echo "README's table: $readme_options; -help: $help_options" >> "$diag"; status=1; }
+help_options=$({ help_names "$work/help-paper.txt"; echo -nz; } | sort | tr '\n' ' ')
+[ "$readme_options" = "$help_options" ] || { echo "README's table: $readme_options; -help of paper, and -nz: $help_options" >> "$diag"; status=1; }
+[ "$(help_names "$work/help.txt" | sort)" = "$(help_names "$work/help-paper.txt" | sort)" ] || { echo "column and paper list other options" >> "$diag"; status=1; }
+[ "$(help_names "$work/help-3d.txt" | sort | tr '\n' ' ')" = "$(echo "$readme_options" | tr ' ' '\n' | grep -vx -- -plane | grep . | sort | tr '\n' ' ')" ] \
+  || { echo "slab3d's -help is not the README's table without -plane" >> "$diag"; status=1; }
 grep -q -- '^  -nx  8  ' "$work/help.txt" || { echo "-help does not give the column scene's nx 8" >> "$diag"; status=1; }
-report $status "-help, -h, --help list every option (edp/options.txt, the README's table) with the scene's defaults, exit 0" "$diag"
+report $status "-help, -h, --help list the options of the scene's body (2D: no -nz; 3D: no -plane; the README's table) with the scene's defaults, exit 0" "$diag"
 
 diag="$work/vtk.diag"; : > "$diag"; status=0
 for scene in column cylinder; do

@@ -6,11 +6,40 @@
 #include "runtools.hpp"
 #include <chrono>
 #include <cmath>
+#include <cstdio>
 #include <cstdlib>
 #include <unistd.h>
 
 namespace runtools {
 namespace {
+
+// x as the shortest text "%.Ng" (N = 1 to 17) gives that strtod reads back as the same double,
+// its exponent without "+" and leading zeros (a tie: the one without an exponent): 0.6, not
+// 0.59999999999999998; 0.001; 2e-6; 100; 1e20; 0.3333333333333333 (OUT/scene.scene's numbers)
+std::string exponentTrimmed(const std::string &s) {
+  const size_t e = s.find('e');
+  if (e == std::string::npos) return s;
+  size_t digits = e + 1;
+  const std::string sign = s[digits] == '-' ? "-" : "";
+  if (s[digits] == '+' || s[digits] == '-') digits++;
+  while (digits + 1 < s.size() && s[digits] == '0') digits++;
+  return s.substr(0, e + 1) + sign + s.substr(digits);
+}
+std::string shortestText(double x) {
+  char text[40];
+  std::string best;
+  for (int digits = 1; digits <= 17; digits++) {
+    std::snprintf(text, sizeof text, "%.*g", digits, x);
+    if (!std::isfinite(x)) return text;
+    if (std::strtod(text, nullptr) != x) continue;
+    const std::string candidate = exponentTrimmed(text);
+    if (best.empty() || candidate.size() < best.size()
+        || (candidate.size() == best.size() && best.find('e') != std::string::npos && candidate.find('e') == std::string::npos))
+      best = candidate;
+  }
+  return best;
+}
+string *runShortestText(Stack stack, const double &x) { return Add2StackOfPtr2Free(stack, new string(shortestText(x))); }
 
 // FreeFEM has no wall clock (its clock() is CPU time): progress lines and the pilot runs' timing
 double runWallClock() {
@@ -68,6 +97,7 @@ static void Load_Init() {
   add("runWallClock", runWallClock);               // (): wall-clock seconds (steady clock)
   add("runProcessId", runProcessId);               // (): this process's id
   add("runEnvironmentSeconds", runEnvironmentSeconds);   // (name): the seconds it gives, -1 if unset
+  Global.Add("runShortestText", "(", new OneOperator1s_<string *, double>(runShortestText));   // (x): the shortest text that reads back as x
   // runfolder.cpp: the run folder (docs/design.md, "Output files")
   add("runFigureNames", runFigureNames);           // (path): the figures a run folder's figures/ may hold (edp/figures.txt)
   add("runFolderOpen", runFolderOpen);             // (out): lock OUT, check it may be replaced, make OUT.partial.<pid>

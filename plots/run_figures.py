@@ -33,6 +33,7 @@ figures.list does not list, and a failure leaves every figures/ as it was. Corru
 import argparse
 import functools
 import os
+import textwrap
 import sys
 
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.dirname(os.path.abspath(__file__))), "edp"))
@@ -165,7 +166,9 @@ def compare_contact(runs):
     (style.versions_note)."""
     note = style.versions_note([run.folder for run in runs], [run.name for run in runs])
     title = f"contact on $\\Gamma_3$ at T: {', '.join(run.name for run in runs)}"
-    return contact_panels(title + (f"\n{style.plain_text(note)}" if note else ""), runs, False)
+    if note:                                          # wrapped to the figure's width (style.note_versions)
+        title += "\n" + "\n".join(textwrap.wrap(style.plain_text(note), 100))
+    return contact_panels(title, runs, False)
 
 
 def histories(run):

@@ -83,7 +83,8 @@ COMPLETE = "sweep.complete"
 COMPLETE_SIGNATURE = ("# sweep.complete: written last by plots/sweep.py (./run.sh sweep), once every run had ended "
                       "and sweep.txt and sweep.png were written; the entries of this folder that the sweep wrote:")
 PLAIN_VALUE = re.compile(r"[A-Za-z0-9.+-]{1,100}", re.ASCII)
-SIGNALS = (signal.SIGINT, signal.SIGTERM, signal.SIGHUP)
+SIGNALS = (signal.SIGINT, signal.SIGTERM, signal.SIGHUP, signal.SIGQUIT, signal.SIGUSR1, signal.SIGUSR2, signal.SIGALRM,
+           signal.SIGXCPU)   # those that end a process by default, as the solver's (docs/design.md, "Output files")
 
 
 def refuse(message):
@@ -646,6 +647,15 @@ def draw(arguments, columns, rows, partial, command):
         categorical = False
     logarithmic = not categorical and (xs > 0).all() and xs.max() >= 100 * xs.min()
     status = np.array([row[2] for row in rows])
+    # the natural scales of the quantities (style.scales: forces p(g) |Gamma3|; x_B, x_C the
+    # extent of Gamma3), from the runs that finished: round-off between runs is drawn flat
+    tables = [runfiles.read_table(os.path.join(partial, row[1], "contact.txt")) for row in rows
+              if row[2] == "ok" and os.path.isfile(os.path.join(partial, row[1], "contact.txt"))]
+    least = {}
+    if tables:
+        force = style.scales(*tables).force
+        extent = max(float(np.ptp(t.finite("x")[0])) for t in tables)
+        least = {"normal_force": force, "tangential_force": force, "tangential_force2": force, "x_B": extent, "x_C": extent}
     fig, axes = plt.subplots(len(arguments.plot), 1, figsize=(7.5, 1.3 + 2.3 * len(arguments.plot)),
                              sharex=True, squeeze=False)
     for ax, quantity in zip(axes[:, 0], arguments.plot):
@@ -671,6 +681,8 @@ def draw(arguments, columns, rows, partial, command):
                             fontsize=7, color="tab:red")
         ax.set_ylabel(quantity)
         ax.legend(fontsize=7)
+        if quantity in least:
+            style.least_span(ax, least[quantity])
     bottom = axes[-1, 0]
     if logarithmic:
         bottom.set_xscale("log")
@@ -713,10 +725,21 @@ def main(state):
         if case not in found:
             entries.append(case.name + ".log")
     columns, rows = table(arguments, cases, outcomes, found)
+    # what made the runs (their summary.txt's versions; one line each value when they differ)
+    versions = []
+    for key in ("suite_version", "freefem_version", "gmsh_version"):
+        seen = []
+        for row in rows:
+            path = os.path.join(folder.partial, row[1], "summary.txt")
+            if row[2] == "ok" and os.path.isfile(path):
+                value = runfiles.read_summary(path).get(key)
+                if value and value not in seen:
+                    seen.append(value)
+        versions += [f"{key} {value}" for value in seen]
     runfiles.write_table(os.path.join(folder.partial, "sweep.txt"),
-                         [f"sweep: {command}", f"swept {arguments.name}",
-                          "one row per value, in the order given: the run at T (nan: a failed run; wall_time: seconds, "
-                          "measured around the solve process)"],
+                         [f"sweep: {command}", f"swept {arguments.name}"] + versions
+                         + ["one row per value, in the order given: the run at T (nan: a failed run; wall_time: seconds, "
+                            "measured around the solve process)"],
                          columns, rows)
     draw(arguments, columns, rows, folder.partial, command)
     folder.commit(entries + ["sweep.txt", "sweep.png"])

@@ -29,14 +29,14 @@ restart_case column-fixedpoint 0.3 0.6 -scene column -dt 0.05 -solver fixedpoint
 # dimension (exit 3), a time step that does not divide t0, a final time not after it, a
 # folder without a state (exit 2), a damaged state (exit 3)
 first="$work/restart-paper-original-first"
-expect_failure "-restart with another material" 3 "option -restart .*: -rho differs: 2e-6 in .*state.txt, 1e-3 in this run" \
+expect_failure "-restart with another material" 3 "option -restart .*: not the same material, -rho: 2e-6 in .*state.txt, 1e-3 in this run" \
   -restart "$first" -T 1 -rho 1e-3
-expect_failure "-restart on another mesh" 3 "option -restart .*: the mesh \\(the POSIX checksum of mesh.msh\\) differs" \
+expect_failure "-restart on another mesh" 3 "option -restart .*: not the same mesh \\(the POSIX checksum of mesh.msh\\)" \
   -restart "$first" -T 1 -mesh "$work/restart-column-fixedpoint-first/mesh.msh"
 { grep -v '^dirichlet 2' "$first/scene.scene"; } > "$work/restart-supports.scene"
-expect_failure "-restart with other supports" 3 "option -restart .*: the supports \\(the scene's dirichlet lines\\) differ" \
+expect_failure "-restart with other supports" 3 "option -restart .*: not the same supports \\(the scene's dirichlet lines\\)" \
   -restart "$first" -T 1 -scene "$work/restart-supports.scene"
-expect_failure "-restart of a 3D run as a 2D one" 3 "3D mesh, but the scene .* is 2D|the dimension differs" \
+expect_failure "-restart of a 3D run as a 2D one" 3 "3D mesh, but the scene .* is 2D|not the same dimension" \
   -restart "$work/restart-slab3d-friction-first" -T 1 -scene paper
 expect_failure "-restart with a -dt that does not divide t0" 2 "option -dt 0.2: a restart at t0 = 0.5 .* needs a time step that divides t0" \
   -restart "$first" -T 1 -dt 0.2
@@ -56,6 +56,32 @@ expect_failure "-restart of a state.txt holding nan" 3 "restart-damaged/state.tx
 sed 's/^u 3 /u 4 /' "$first/state.txt" > "$work/restart-damaged/state.txt"
 expect_failure "-restart of a state.txt with an index out of order" 3 "restart-damaged/state.txt:[0-9]+: index 4 of u, expected 3" \
   -restart "$work/restart-damaged" -T 1
+
+sed 's/^# restart_time .*/# restart_time -1/' "$first/state.txt" > "$work/restart-damaged/state.txt"
+expect_failure "-restart of a state.txt whose t0 is not restart_step x dt" 3 "restart-damaged/state.txt: restart_time -1, restart_step 5 and dt 0.1 do not agree" \
+  -restart "$work/restart-damaged" -T 1
+awk '{ print } /^# restart_step/ { print }' "$first/state.txt" > "$work/restart-damaged/state.txt"
+expect_failure "-restart of a state.txt giving a key twice" 3 "restart-damaged/state.txt:[0-9]+: a second line '# restart_step'" \
+  -restart "$work/restart-damaged" -T 1
+sed 's/$/\r/' "$first/state.txt" > "$work/restart-damaged/state.txt"
+expect_failure "-restart of a state.txt with CR LF line ends" 3 "restart-damaged/state.txt: has carriage returns" \
+  -restart "$work/restart-damaged" -T 1
+grep -v '^v [0-9]*[02468] ' "$first/state.txt" > "$work/restart-damaged/state.txt"
+expect_failure "-restart of a state.txt that lost rows" 3 "restart-damaged/state.txt:[0-9]+: index 1 of v, expected 0" \
+  -restart "$work/restart-damaged" -T 1
+expect_failure "-restart without its own -T" 2 "option -T: a restart continues .* from t0 = 0.5: give its final time, -T > t0" \
+  -restart "$first"
+# a restart asks for its own -every, -vtk, -snapshots (the first part's scene.scene echoes them), and
+# its scene.scene has no restart line (a state is no part of a scene)
+diag="$work/restart-own.diag"; : > "$diag"; status=0
+rm -rf "$work/restart-own-first" "$work/restart-own-second"
+solve -scene paper -nx 8 -ny 4 -dt 0.1 -T 0.5 -every 2 -vtk 2 -snapshots 3 -out "$work/restart-own-first" >> "$diag" 2>&1 || status=1
+solve -restart "$work/restart-own-first" -T 1 -out "$work/restart-own-second" >> "$diag" 2>&1 || status=1
+[ -e "$work/restart-own-second/vtk" ] || [ -e "$work/restart-own-second/snapshots.txt" ] && { echo "the restart wrote vtk/ or snapshots.txt"; status=1; } >> "$diag"
+grep -Eq '^# (every 0|vtk 0|snapshots 0)$' "$work/restart-own-second/history.txt" && [ "$(grep -Ec '^# (every 0|vtk 0|snapshots 0)$' "$work/restart-own-second/history.txt")" = 3 ] \
+  || { echo "the restart's header does not say every 0, vtk 0, snapshots 0"; status=1; } >> "$diag"
+grep -q "^restart " "$work/restart-own-second/scene.scene" && { echo "scene.scene echoes the restart"; status=1; } >> "$diag"
+report $status "-restart asks for its own -T, -every, -vtk, -snapshots; its scene.scene has no restart line" "$diag"
 
 # ---- every output records what made it: the suite, FreeFEM and gmsh versions, in each header and
 # in summary.txt, the same everywhere; compare.edp notes runs of different versions

@@ -3,6 +3,7 @@
 // -Ddimension=3. Also the guard against command-line arguments FreeFem++ itself would act on,
 // which the plugin runs as it is loaded (docs/design.md, "Command line").
 #include "runtools.hpp"
+#include <algorithm>
 #include <cerrno>
 #include <csignal>
 #include <cstdio>
@@ -115,10 +116,13 @@ std::string firstLineOf(const std::vector<std::string> &args) {
   return first == std::string::npos ? "" : text.substr(first, last - first + 1);
 }
 
-// A version as one word of the outputs: blanks and control characters become '_', "unknown"
-// when empty.
+// A version as one word of the outputs, in printable ASCII: the ends' blanks (a CR) cut, any
+// other byte outside '!'..'~' (a blank, a control, a byte of another encoding) made '_', at most
+// 100 characters; "unknown" when nothing is left.
 std::string versionWord(std::string text) {
-  for (char &c : text) if ((unsigned char)c <= ' ' || (unsigned char)c == 0x7f) c = '_';
+  const size_t first = text.find_first_not_of(" \t\r\n"), last = text.find_last_not_of(" \t\r\n");
+  text = first == std::string::npos ? "" : text.substr(first, std::min<size_t>(last - first + 1, 100));
+  for (char &c : text) if ((unsigned char)c <= ' ' || (unsigned char)c >= 0x7f) c = '_';
   return text.empty() ? "unknown" : text;
 }
 
@@ -128,14 +132,16 @@ std::string versionWord(std::string text) {
 // `git describe --always --dirty` (read-only: --no-optional-locks takes no index lock);
 // else the first line of repository/VERSION, the version written at release; else unknown.
 std::string suiteVersion(const std::string &repository) {
-  std::string version;
-  if (access((repository + "/.git").c_str(), F_OK) == 0)
+  std::string version, release;
+  const bool checkout = access((repository + "/.git").c_str(), F_OK) == 0;
+  if (checkout)
     version = firstLineOf({"git", "--no-optional-locks", "-C", repository, "describe", "--always", "--dirty"});
-  if (version.empty()) {
-    std::ifstream f(repository + "/VERSION");
-    std::getline(f, version);
-  }
-  return versionWord(version);
+  if (!version.empty()) return versionWord(version);
+  std::ifstream f(repository + "/VERSION");
+  std::getline(f, release);
+  // a checkout git would not read (another user's: "dubious ownership"), or no git: the release,
+  // marked as not checked against the commit
+  return versionWord(release) + (checkout ? "+commit-unknown" : "");
 }
 
 // gmsh's version, as `gmsh --version` prints it

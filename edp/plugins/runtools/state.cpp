@@ -10,6 +10,7 @@
 #include <cmath>
 #include <cstdlib>
 #include <fstream>
+#include <map>
 #include <sstream>
 
 namespace runtools {
@@ -31,34 +32,47 @@ std::vector<std::string> wordsOf(const std::string &line) {
   return words;
 }
 
-// Every line of the file, each checked to end with a line feed.
-std::vector<std::string> stateLines(const std::string &path) {
+// Every line of the file, each checked to end with a line feed. Read once per run (a run reads
+// its state many times: every read sees the same file, even if its folder is replaced meanwhile).
+const std::vector<std::string> &stateLines(const std::string &path) {
+  static std::map<std::string, std::vector<std::string>> read;
+  auto known = read.find(path);
+  if (known != read.end()) return known->second;
   std::ifstream f(path, std::ios::binary);
   if (!f) stateFail(path, 0, "cannot be read");
   std::string text((std::istreambuf_iterator<char>(f)), std::istreambuf_iterator<char>());
   if (text.empty()) stateFail(path, 0, "is empty");
   if (text.back() != '\n') stateFail(path, 0, "its last line has no line end: the file is truncated");
+  if (text.find('\0') != std::string::npos) stateFail(path, 0, "holds a NUL byte: not a text file");
+  if (text.find('\r') != std::string::npos) stateFail(path, 0, "has carriage returns (CR LF line ends): not the file a run writes");
   std::vector<std::string> lines;
   size_t start = 0;
   for (size_t end; (end = text.find('\n', start)) != std::string::npos; start = end + 1) lines.push_back(text.substr(start, end - start));
-  return lines;
+  return read[path] = lines;
 }
 }  // namespace
 
-// The value of the first header line "# key value" (one word) of the state file at path; ""
-// when it has none.
+// The value of the header line "# key value" (one word) of the state file at path; "" when it
+// has none; a key given twice stops the run (exit 3).
 std::string stateKey(const std::string &path, const std::string &key) {
-  for (const std::string &line : stateLines(path)) {
-    if (line.empty() || line[0] != '#') break;
-    const std::vector<std::string> w = wordsOf(line.substr(1));
-    if (w.size() == 2 && w[0] == key) return w[1];
+  const std::vector<std::string> &lines = stateLines(path);
+  std::string value;
+  bool found = false;
+  for (size_t k = 0; k < lines.size(); k++) {
+    if (lines[k].empty() || lines[k][0] != '#') break;
+    const std::vector<std::string> w = wordsOf(lines[k].substr(1));
+    if (w.size() == 2 && w[0] == key) {
+      if (found) stateFail(path, (long)k + 1, "a second line '# " + key + "'");
+      found = true;
+      value = w[1];
+    }
   }
-  return "";
+  return value;
 }
 
 // The values of quantity, in the order of their indexes; the whole file is checked.
 std::vector<double> stateValues(const std::string &path, const std::string &quantity) {
-  const std::vector<std::string> lines = stateLines(path);
+  const std::vector<std::string> &lines = stateLines(path);
   size_t k = 0;
   while (k < lines.size() && !lines[k].empty() && lines[k][0] == '#') k++;
   if (k == 0 || lines[k - 1] != columnHeader)
@@ -75,11 +89,11 @@ std::vector<double> stateValues(const std::string &path, const std::string &quan
     char *end = nullptr;
     errno = 0;
     const long index = std::strtol(w[1].c_str(), &end, 10);
-    if (*end || errno || index != next[q]) stateFail(path, line, "index " + w[1] + " of " + w[0] + ", expected " + std::to_string(next[q]));
+    if (*end || errno || index != next[q] || w[1] != std::to_string(index)) stateFail(path, line, "index " + w[1] + " of " + w[0] + ", expected " + std::to_string(next[q]));
     next[q]++;
     errno = 0;
     const double value = std::strtod(w[2].c_str(), &end);
-    if (*end || !std::isfinite(value)) stateFail(path, line, "'" + w[2] + "' is not a finite number");
+    if (*end || !std::isfinite(value) || w[2].find_first_of("xXpP") != std::string::npos) stateFail(path, line, "'" + w[2] + "' is not a finite number");
     if (w[0] == quantity) values.push_back(value);
   }
   return values;

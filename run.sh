@@ -72,17 +72,33 @@ build_plugin() { # build_plugin NAME "SOURCES..." [LIBRARIES...]: (re)build edp/
   echo "run.sh: building $target (its sources changed; up to a minute)" >&2
   local tmp="$target.$$" saved compiler
   saved="$(trap -p TERM INT HUP)"
-  # (the plugin compares its sources with these at run time: PLUGIN_SOURCES, PLUGIN_SOURCES_CKSUM)
-  # shellcheck disable=SC2086
-  g++ $KERNEL_CXXFLAGS -std=c++14 -fPIC -shared -DNDEBUG -DPLUGIN_SOURCES_CKSUM="$sum" -DPLUGIN_SOURCES="\"$sources\"" \
-      -Wno-deprecated-declarations -I/usr/include/freefem++ -I/usr/include/suitesparse -I"$PLUGINS" "${units[@]}" -o "$tmp" "$@" &
+  # Each source compiled apart, as many at once as the machine has cores, then linked. (The
+  # plugin compares its sources with these at run time: PLUGIN_SOURCES, PLUGIN_SOURCES_CKSUM.)
+  compile_units() {
+    local jobs unit k=0 running=()
+    jobs="$(nproc 2>/dev/null || echo 1)"
+    trap 'kill "${running[@]}" 2>/dev/null; exit 143' TERM
+    mkdir -p "$tmp.o" || return 1
+    for unit in "${units[@]}"; do
+      # shellcheck disable=SC2086
+      g++ $KERNEL_CXXFLAGS -std=c++14 -fPIC -DNDEBUG -DPLUGIN_SOURCES_CKSUM="$sum" -DPLUGIN_SOURCES="\"$sources\"" \
+          -Wno-deprecated-declarations -I/usr/include/freefem++ -I/usr/include/suitesparse -I"$PLUGINS" -c "$unit" -o "$tmp.o/$k.o" &
+      running+=($!); k=$((k + 1))
+      if [ "${#running[@]}" -ge "$jobs" ]; then wait "${running[0]}" || { kill "${running[@]:1}" 2>/dev/null; return 1; }; running=("${running[@]:1}"); fi
+    done
+    for unit in "${running[@]}"; do wait "$unit" || { kill "${running[@]}" 2>/dev/null; return 1; }; done
+    # shellcheck disable=SC2086
+    g++ $KERNEL_CXXFLAGS -shared "$tmp.o"/*.o -o "$tmp" "$@"
+  }
+  compile_units "$@" &
   compiler=$!                                     # a signal during the build stops it and leaves no partial .so
-  trap 'kill "$compiler" 2>/dev/null; wait "$compiler"; rm -f "$tmp"; exit 143' TERM
-  trap 'kill "$compiler" 2>/dev/null; wait "$compiler"; rm -f "$tmp"; exit 130' INT
-  trap 'kill "$compiler" 2>/dev/null; wait "$compiler"; rm -f "$tmp"; exit 129' HUP
+  trap 'kill "$compiler" 2>/dev/null; wait "$compiler"; rm -rf "$tmp" "$tmp.o"; exit 143' TERM
+  trap 'kill "$compiler" 2>/dev/null; wait "$compiler"; rm -rf "$tmp" "$tmp.o"; exit 130' INT
+  trap 'kill "$compiler" 2>/dev/null; wait "$compiler"; rm -rf "$tmp" "$tmp.o"; exit 129' HUP
   if ! wait "$compiler"; then
-    rm -f "$tmp"; echo "run.sh: error: cannot build $target from $sources in $PLUGINS" >&2; exit 1
+    rm -rf "$tmp" "$tmp.o"; echo "run.sh: error: cannot build $target from $sources in $PLUGINS" >&2; exit 1
   fi
+  rm -rf "$tmp.o"
   mv "$tmp" "$target"
   trap - TERM INT HUP; eval "$saved"
   echo "$sum $KERNEL_CXXFLAGS" > "$target.cksum"

@@ -79,10 +79,11 @@ rc=0; solve -scene "$work/steep.scene" -T 0.5 -solver fixedpoint -out "$work/ste
 [ "$rc" = 4 ] && [ ! -e "$work/steep" ] && grep -Eq "^error: step 1 \(t = 0.01\): the contact solver did not converge after [0-9]+ iterations \(the fixed point stalled: .*\), residual [0-9.e+-]+ > tol 1e-10; no results written" "$work/steep.log" \
   && [ "$(sed -n 's/.*after \([0-9]*\) iterations.*/\1/p' "$work/steep.log")" -lt 500 ] \
   || { echo "steep table, fixed point: exit $rc" >> "$diag"; cat "$work/steep.log" >> "$diag"; status=1; }
-# Newton converges there, at a tolerance its round-off cannot decide (at 1e-10 a build with fused
-# multiply-adds stalls at 2e-10 on a step of this table, whose slope reaches 1e5): 1e-8, checked at 10 tol
-solve -scene "$work/steep.scene" -T 0.5 -tol 1e-8 -out "$work/steep-newton" >> "$diag" 2>&1 \
-  && "$PYTHON" tests/check_results.py "$work/steep-newton" --rtol 1e-7 >> "$diag" 2>&1 \
+# Newton gets past the step where the sweeps stall: its first two steps (later steps of this table,
+# whose slope reaches 1e5, stall Newton too, at a step and residual round-off decides: step 3 at
+# 2e-10 with fused multiply-adds; docs/stability.md)
+solve -scene "$work/steep.scene" -T 0.02 -out "$work/steep-newton" >> "$diag" 2>&1 \
+  && "$PYTHON" tests/check_results.py "$work/steep-newton" >> "$diag" 2>&1 \
   || { echo "steep table, Newton: did not converge" >> "$diag"; status=1; }
 # a large penalty eps: eps times the round-off of lambda_nu is no violation of the penalty law
 solve -scene paper -nx 16 -ny 8 -T 0.2 -problem penalty -eps 1e6 -out "$work/eps1e6" >> "$diag" 2>&1 \

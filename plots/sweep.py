@@ -726,16 +726,12 @@ def main(state):
             entries.append(case.name + ".log")
     columns, rows = table(arguments, cases, outcomes, found)
     # what made the runs (their summary.txt's versions; one line each value when they differ)
+    summaries = [runfiles.read_summary(os.path.join(folder.partial, row[1], "summary.txt")) for row in rows
+                 if row[2] == "ok" and os.path.isfile(os.path.join(folder.partial, row[1], "summary.txt"))]
     versions = []
     for key in ("suite_version", "freefem_version", "gmsh_version"):
-        seen = []
-        for row in rows:
-            path = os.path.join(folder.partial, row[1], "summary.txt")
-            if row[2] == "ok" and os.path.isfile(path):
-                value = runfiles.read_summary(path).get(key)
-                if value and value not in seen:
-                    seen.append(value)
-        versions += [f"{key} {value}" for value in seen]
+        values = [s.get(key) for s in summaries if s.get(key)]
+        versions += [f"{key} {value}" for value in dict.fromkeys(values)]     # each once, in the runs' order
     runfiles.write_table(os.path.join(folder.partial, "sweep.txt"),
                          [f"sweep: {command}", f"swept {arguments.name}"] + versions
                          + ["one row per value, in the order given: the run at T (nan: a failed run; wall_time: seconds, "

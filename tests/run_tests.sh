@@ -120,6 +120,17 @@ compare_numeric() {
   numdiff "$mode" -r "$rel" "${args[@]}" "$ref" "$new"
 }
 
+# same_outputs RUN AGAIN: the output files of RUN and of AGAIN (RUN repeated from its scene.scene
+# and mesh.msh) are identical but for the lines that name the runs' own files (scene, out, mesh,
+# mesh_source, scene_file; nx, ny, nz, which read none with -mesh) and the timings; prints the
+# files that differ
+own_files() { grep -v -E '^(# )?(scene|out|mesh|mesh_source|scene_file|nx|ny|nz|time_[a-z_]*) ' "$1"; }
+same_outputs() {
+  local f status=0
+  for f in "${OUTPUT_FILES[@]}"; do cmp -s <(own_files "$1/$f") <(own_files "$2/$f") || { echo "$f"; status=1; }; done
+  return $status
+}
+
 # field_numbers FILE NAME...: the numbers of the named columns of FILE's header (the last
 # comment line before its data)
 field_numbers() {

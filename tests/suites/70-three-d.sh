@@ -35,11 +35,7 @@ done
 report $status "3D: the slab between walls = 2D plane strain (x_B, x_C within one spacing, the normal force converging)" "$diag"
 diag="$work/repeat3d.diag"; : > "$diag"; status=0
 solve -scene "$work/slide3d/scene.scene" -mesh "$work/slide3d/mesh.msh" -out "$work/slide3d-repeat" >> "$diag" 2>&1 || status=1
-for f in "${OUTPUT_FILES[@]}"; do
-  cmp -s <(grep -v -E '^(# )?(scene|out|mesh|mesh_source|scene_file|nx|ny|nz|time_[a-z_]*) ' "$work/slide3d/$f") \
-         <(grep -v -E '^(# )?(scene|out|mesh|mesh_source|scene_file|nx|ny|nz|time_[a-z_]*) ' "$work/slide3d-repeat/$f") \
-    || { echo "$f differs" >> "$diag"; status=1; }
-done
+same_outputs "$work/slide3d" "$work/slide3d-repeat" >> "$diag" || { echo "(these differ)" >> "$diag"; status=1; }
 report $status "3D: a run repeats itself from its own scene.scene and mesh.msh" "$diag"
 # A bound that varies over a 3D contact face (bound_table: bilinear on a grid over x and z,
 # constant beyond it), pressed so hard that every node of Gamma3 is at its bound. The column g
@@ -90,11 +86,7 @@ PY
 grep -q '^bound_table x 0 0.4.* z 0.1.* g 0.03 0.05 ' "$work/bound-table3d/scene.scene" && ! grep -q '^g ' "$work/bound-table3d/scene.scene" \
   && grep -q '^# g bound_table$' "$work/bound-table3d/contact.txt" || { echo "scene.scene or contact.txt's header: no bound_table line, or g" >> "$diag"; status=1; }
 solve -scene "$work/bound-table3d/scene.scene" -mesh "$work/bound-table3d/mesh.msh" -out "$work/bound-table3d-repeat" >> "$diag" 2>&1 || status=1
-for f in "${OUTPUT_FILES[@]}"; do
-  cmp -s <(grep -v -E '^(# )?(scene|out|mesh|mesh_source|scene_file|nx|ny|nz|time_[a-z_]*) ' "$work/bound-table3d/$f") \
-         <(grep -v -E '^(# )?(scene|out|mesh|mesh_source|scene_file|nx|ny|nz|time_[a-z_]*) ' "$work/bound-table3d-repeat/$f") \
-    || { echo "$f differs when repeated from scene.scene" >> "$diag"; status=1; }
-done
+same_outputs "$work/bound-table3d" "$work/bound-table3d-repeat" >> "$diag" || { echo "(these differ when repeated from scene.scene)" >> "$diag"; status=1; }
 sed 's/^bound_table .*/bound_table x 0 0.4 1 z 0.1 0.9 g 0.05 0.05 0.05 0.05 0.05 0.05/' edp/scenes/bound-table3d.scene > "$work/bound-table3d-constant.scene"
 sed 's/^bound_table .*/g 0.05/' edp/scenes/bound-table3d.scene > "$work/bound-table3d-g.scene"
 for name in constant g; do
@@ -149,10 +141,7 @@ diag="$work/repeat.diag"; : > "$diag"; status=0
 rm -rf "$work/repeat" "$work/repeat2"
 solve -scene bound-profile -nx 33 -ny 16 -dt 0.05 -load 20 -mu 0.3 -r 0.5 -out "$work/repeat" >> "$diag" 2>&1 || status=1
 solve -scene "$work/repeat/scene.scene" -mesh "$work/repeat/mesh.msh" -out "$work/repeat2" >> "$diag" 2>&1 || status=1
-own_files() { grep -v -E '^(# )?(scene|out|mesh|mesh_source|scene_file|nx|ny|time_[a-z_]*) ' "$1"; }
-for f in "${OUTPUT_FILES[@]}"; do
-  cmp -s <(own_files "$work/repeat/$f") <(own_files "$work/repeat2/$f") || { echo "$f differs" >> "$diag"; status=1; }
-done
+same_outputs "$work/repeat" "$work/repeat2" >> "$diag" || { echo "(these differ)" >> "$diag"; status=1; }
 grep -q '^load 20$' "$work/repeat/scene.scene" && grep -q '^r 0.5$' "$work/repeat/scene.scene" && grep -q '^bound_profile ' "$work/repeat/scene.scene" \
   || { echo "scene.scene lacks the override or the profile" >> "$diag"; status=1; }
 # options left at the table's default are not pinned (the fixed point's r follows -solver), nor is g beside a profile

@@ -76,42 +76,20 @@ bool freefemOption(const std::string &a, bool &takesValue) {
 }
 
 // What a program writes first (its standard output and error, the first line, blanks trimmed),
-// without a shell; "" when it cannot start or does not exit 0.
+// run as spawnAndWait runs it, into a temporary file; "" when it cannot start or does not exit 0.
 std::string firstLineOf(const std::vector<std::string> &args) {
-  int fd[2];
-  if (pipe(fd) != 0) return "";
-  const pid_t parent = getpid();
-  const pid_t child = fork();
-  if (child < 0) { close(fd[0]); close(fd[1]); return ""; }
-  if (child == 0) {                                // system calls only until exec
-    prctl(PR_SET_PDEATHSIG, SIGKILL);
-    if (getppid() != parent) _exit(127);
-    const int none = open("/dev/null", O_RDONLY);
-    if (none >= 0) dup2(none, 0);
-    dup2(fd[1], 1); dup2(fd[1], 2);
-    close(fd[0]); close(fd[1]);
-    std::vector<char *> argv;
-    for (auto &a : args) argv.push_back(const_cast<char *>(a.c_str()));
-    argv.push_back(nullptr);
-    execvp(argv[0], argv.data());
-    _exit(127);
-  }
-  close(fd[1]);
-  runningChild = child;
+  char path[] = "/tmp/contact-suite-output.XXXXXX";
+  const int fd = mkstemp(path);
+  if (fd < 0) return "";
+  close(fd);
+  rememberTemporary(path);                         // removed if a signal ends the run meanwhile
+  const int status = spawnAndWait(args[0], args, path);
+  std::ifstream f(path);
   std::string text;
-  char buffer[4096];
-  for (;;) {
-    const ssize_t got = read(fd[0], buffer, sizeof buffer);
-    if (got > 0) { if (text.size() < 65536) text.append(buffer, (size_t)got); continue; }
-    if (got < 0 && errno == EINTR) continue;
-    break;
-  }
-  close(fd[0]);
-  int status = 0;
-  while (waitpid(child, &status, 0) < 0 && errno == EINTR) {}
-  runningChild = 0;
-  if (!WIFEXITED(status) || WEXITSTATUS(status) != 0) return "";
-  text = text.substr(0, text.find('\n'));
+  std::getline(f, text);
+  unlink(path);
+  forgetTemporary(path);
+  if (status != 0) return "";
   const size_t first = text.find_first_not_of(" \t\r"), last = text.find_last_not_of(" \t\r");
   return first == std::string::npos ? "" : text.substr(first, last - first + 1);
 }

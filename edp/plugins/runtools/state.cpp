@@ -11,7 +11,6 @@
 #include <cstdlib>
 #include <fstream>
 #include <map>
-#include <sstream>
 
 namespace runtools {
 
@@ -22,14 +21,6 @@ const char *quantities[] = {"u", "v", "fixed", "multiplier", "slot_velocity"};
 [[noreturn]] void stateFail(const std::string &path, long line, const std::string &what) {
   fail(3, shown(path) + (line > 0 ? ":" + std::to_string(line) : "") + ": " + what
           + " (the state a run writes for -restart: rebuild it by running that case again)");
-}
-
-std::vector<std::string> wordsOf(const std::string &line) {
-  std::vector<std::string> words;
-  std::istringstream in(line);
-  std::string w;
-  while (in >> w) words.push_back(w);
-  return words;
 }
 
 // Every line of the file, each checked to end with a line feed. Read once per run (a run reads
@@ -60,7 +51,7 @@ std::string stateKey(const std::string &path, const std::string &key) {
   bool found = false;
   for (size_t k = 0; k < lines.size(); k++) {
     if (lines[k].empty() || lines[k][0] != '#') break;
-    const std::vector<std::string> w = wordsOf(lines[k].substr(1));
+    const std::vector<std::string> w = fieldsOf(lines[k].substr(1));
     if (w.size() == 2 && w[0] == key) {
       if (found) stateFail(path, (long)k + 1, "a second line '# " + key + "'");
       found = true;
@@ -80,7 +71,7 @@ std::vector<double> stateValues(const std::string &path, const std::string &quan
   std::vector<double> values;
   std::vector<long> next(sizeof quantities / sizeof *quantities, 0);
   for (; k < lines.size(); k++) {
-    const std::vector<std::string> w = wordsOf(lines[k]);
+    const std::vector<std::string> w = fieldsOf(lines[k]);
     const long line = (long)k + 1;
     if (w.size() != 3) stateFail(path, line, "not a row 'quantity index value'");
     size_t q = 0;

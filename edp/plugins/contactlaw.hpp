@@ -392,7 +392,10 @@ struct Slots {
       piece[j] = p;
       target[j] = t;
       double weight = residualWeight[j];
-      const double terms = roundoff * (std::fabs(Kn[j] * c[j]) + std::fabs(m[j]) + r[j] * (std::fabs(c[j]) + velocityScale[j]));
+      double terms = std::fabs(Kn[j] * c[j]) + std::fabs(m[j]) + r[j] * (std::fabs(c[j]) + velocityScale[j]);
+      if (!normal[j] && partner[j] >= 0)                  // a slip's target mu p(c_nu): the round-off of c_nu through p'
+        terms += std::fabs(frictionBoundSlope(P, c[partner[j]])) * (std::fabs(c[partner[j]]) + velocityScale[partner[j]]);
+      terms *= roundoff;
       if (terms * weight > 1) weight = 1 / terms;
       mismatch[j] = (lambda - t) * weight;
       worst = std::max(worst, std::fabs(mismatch[j]));

@@ -80,13 +80,17 @@
 //   contactNewtonSafeguard(real[int] cFree, real[int] previous, real[int] newton, real merit,
 //       real[int] c, real[int] m, real[int] info)  the safeguard: from the previous multipliers
 //       (whose merit is merit) and the Newton iterate, the (c, m) it keeps; returns 0 (the
-//       Newton iterate), 1 (a shortened Newton step) or 2 (a fixed-point iteration); info: the
+//       Newton iterate), 1 (a shortened Newton step), 2 (a fixed-point iteration), 3 (the Newton
+//       iterate, kept by the watchdog although its merit rose) or 4 (the watchdog's return to
+//       where it started: newton.cpp, safeguardStep); info: the
 //       columns "safeguard_info" (unresolved: Slots::unresolvedStatuses when the residual meets
 //       tol; the step has converged when it is 0)
 //   contactNewtonLog(int it, real residual, int outcome, real step)  -verbose: the log line
 //   contactNewtonGuard(int it, real[int] c, real[int] m)  the cycle guard: halves r when the
 //       relations of iteration it repeat; returns 1 if it did
 //   contactNewtonEnd()  r back to the user's after a step
+//   contactNewtonPiecesRepeat()  1 if the pieces of the law's last evaluation are those of the
+//       last call in the step (Newton then solves for a correction of m: newton.cpp)
 //   contactKernelCounters(real[int] counts)  the run's counts, the columns "counters"
 // The record and the outputs (record.cpp)
 //   contactKernelRecordStart(real[int] v0, real[int] u0, real[int] Mv, real[int] Bu)  the
@@ -498,6 +502,7 @@ long newtonGuard(const long &it, KN<double> *const &pc, KN<double> *const &pm) {
   return guard(k, (int)it, c.data(), m.data());
 }
 long newtonEnd() { endStep(kernel()); return 0; }
+long newtonPiecesRepeat() { return piecesRepeat(kernel()); }
 
 long counters(KN<double> *const &pcounts) {
   const Kernel &k = kernel();
@@ -506,6 +511,7 @@ long counters(KN<double> *const &pcounts) {
   counts[CounterFactorizations] = k.newton.factorizations; counts[CounterCorrections] = k.newton.corrections;
   counts[CounterRefinements] = k.newton.refinements; counts[CounterCuts] = k.newton.cuts;
   counts[CounterHalvings] = k.newton.halvings; counts[CounterRetries] = k.newton.retries;
+  counts[CounterWatchdogs] = k.newton.watchdogs; counts[CounterWatchdogReturns] = k.newton.watchdogReturns;
   copyInto(*pcounts, counts, counterColumnCount);
   return 0;
 }
@@ -687,6 +693,7 @@ static void Load_Init() {
   Global.Add("contactNewtonLog", "(", new OneOperator4_<long, long, double, long, double>(newtonLog));
   Global.Add("contactNewtonGuard", "(", new OneOperator3_<long, long, Array, Array>(newtonGuard));
   Global.Add("contactNewtonEnd", "(", new OneOperator0<long>(newtonEnd));
+  Global.Add("contactNewtonPiecesRepeat", "(", new OneOperator0<long>(newtonPiecesRepeat));
   Global.Add("contactNewtonStart", "(", new OneOperator4_<double, Array, Array, Array, Array>(newtonStartScript));
   Global.Add("contactNewtonSafeguard", "(", new OneOperator7_<long, Array, Array, Array, double, Array, Array, Array>(newtonSafeguard));
   Global.Add("contactKernelCounters", "(", new OneOperator1_<long, Array>(counters));

@@ -54,7 +54,8 @@ namespace contactkernel {
   X(CounterFactorizations, "newton_factorizations", true)                                              \
   X(CounterCorrections, "newton_low_rank_corrections", true) X(CounterRefinements, "newton_refinements", true) \
   X(CounterCuts, "newton_shortened_steps", true) X(CounterHalvings, "augmentation_halvings", true)     \
-  X(CounterRetries, "newton_retries", true)
+  X(CounterRetries, "newton_retries", true) X(CounterWatchdogs, "newton_watchdogs", true)              \
+  X(CounterWatchdogReturns, "newton_watchdog_returns", true)
 
 // the record's zone counts: zone_NAME, NAME the law's (contactlaw.hpp, zoneNames), in zone order
 const char *zoneColumn(int zone);

@@ -339,6 +339,25 @@ void slotVelocities(const Kernel &k, const double *v, std::vector<double> &cv) {
   for (size_t e = 0; e < factor.slotOf.size(); e++) cv[factor.slotOf[e]] += factor.valOf[e] * v[factor.dofOf[e]];
 }
 
+// The size of the terms a solver computes the velocities from, c = cFree - Dw m, at a step's
+// start (m: its first multipliers): velocityScale_j = |cFree_j| + sum_i |Dw_ji m_i|, whose
+// round-off the law's guard weighs (Slots::evaluate). |cFree| alone misses a body held only by
+// contact, whose rigid motion gives Dw large entries, under friction forces that cancel across
+// the face: the half-disk at mu = 1 computes v_tau to about 1e-10 g where cFree is 1e-2 g.
+void roundoffScale(Kernel &k, const double *cFree, const double *m) {
+  const Factorization &factor = k.factor;
+  contactlaw::Slots &law = k.law;
+  const int nc = factor.nc;
+  if ((int)law.velocityScale.size() != nc) return;
+  for (int j = 0; j < nc; j++) law.velocityScale[j] = std::fabs(cFree[j]);
+  for (int i = 0; i < nc; i++) {
+    const double mi = std::fabs(m[i]);
+    if (mi == 0) continue;
+    const double *column = factor.Dw.data() + (size_t)i * nc;
+    for (int j = 0; j < nc; j++) law.velocityScale[j] += std::fabs(column[j]) * mi;
+  }
+}
+
 // c = cFree - Dw m
 void velocities(const Kernel &k, const double *cFree, const double *m, double *c) {
   const int nc = k.factor.nc, inc = 1;

@@ -106,6 +106,7 @@ long fixedPointStep(Kernel &k, const double *cFreeIn, double *cInOut, double *mI
   for (int j = 0; j < nc; j++) law.setAugmentation(j, factor.rReference[j]);
   std::vector<double> cFree(nc), c(nc), m(nc);
   for (int j = 0; j < nc; j++) { cFree[j] = cFreeIn[j]; m[j] = mInOut[j]; }
+  roundoffScale(k, cFree.data(), m.data());
   auto exactVelocities = [&]() { velocities(k, cFree.data(), m.data(), c.data()); };
   exactVelocities();
   double residual = law.evaluate(c.data(), m.data());

@@ -43,6 +43,7 @@ void freeVelocity(Kernel &k, const double *b, double *cFree);      // cFree = C 
 void finishVelocity(Kernel &k, const double *m, double *v);        // v = S^-1 (b - C'W m) (backward half)
 void slotVelocities(const Kernel &k, const double *v, std::vector<double> &cv);   // C v
 void velocities(const Kernel &k, const double *cFree, const double *m, double *c);  // c = cFree - Dw m
+void roundoffScale(Kernel &k, const double *cFree, const double *m);
 
 // ---- products.cpp
 bool sameProductPattern(const SparseTriplets matrices[3]);
@@ -57,6 +58,7 @@ long newtonStep(Kernel &k, const double *cFree, double *c, double *m, double inf
 double newtonStart(Kernel &k, const double *cFree, const double *c, const double *m, double &merit);
 int safeguardStep(Kernel &k, const double *cFree, const double *previous, const double *newtonM, double &merit,
                   double *c, double *m, double &residual, double &step, const double *DwNewtonM = nullptr);
+bool piecesRepeat(Kernel &k);
 int guard(Kernel &k, int it, const double *c, const double *m);
 void endStep(Kernel &k);
 bool stepConverged(Kernel &k, double residual, const double *c, int &unresolved);

@@ -488,12 +488,25 @@ bool stepConverged(Kernel &k, double residual, const double *c, int &unresolved)
 // point is slow (fine meshes far from the solution). Near the solution the Newton iterates
 // pass the test and convergence stays quadratic. (A line search alone, with r halved on a
 // repeated active set, and the fixed-point iteration alone were tried first: docs/stability.md.)
+// The watchdog: when the safeguard has replaced two Newton iterates in a row, the Newton iterates
+// are kept whatever their merit (at most watchdogLength in a row), until one lowers the merit of
+// the reference (the iterate kept when it started) by the Armijo margin; if none does, or an
+// iterate comes back to the pieces of one kept before with no lower merit (a cycle), the
+// iterate goes back to the reference and the monotone safeguard goes on, the watchdog not
+// starting again before a Newton iterate passes. A slip front spreading along a curved face
+// raises the merit at every Newton iterate of a step that converges in about ten (the half-disk:
+// docs/stability.md, "Why the half-disk needs so many iterations"); two replacements in a row,
+// not one, because a step of the paper's block starts with two, which its references record.
 namespace {
+const int watchdogLength = 12;
 bool accept(const SolverSettings &settings, double merit, double trialMerit, double trialResidual, double step = 1) {
   return trialMerit < (1 - 1e-4 * step) * merit || trialResidual <= settings.tol;
 }
-enum SafeguardOutcome { NewtonKept = 0, NewtonShortened = 1, FixedPointTaken = 2 };
+// safeguardStep's outcomes (edp/lib/solvers.idp reads 0 and 3 as a kept Newton iterate)
+enum SafeguardOutcome { NewtonKept = 0, NewtonShortened = 1, FixedPointTaken = 2, WatchdogKept = 3, WatchdogReturned = 4 };
 }  // namespace
+int replaceNewtonIterate(Kernel &k, const double *cFree, const double *previous, const double *newtonM, double before,
+                         double trialMerit, double *c, double *m, double &merit, double &residual, double &step);
 // From the previous iterate and the Newton iterate (multipliers; c = cFree - Dw m), set (c, m)
 // to the iterate the safeguard keeps and the law's state to its evaluation; its natural
 // residual and merit (referenceEvaluate) in residual and merit (on entry: the previous
@@ -511,7 +524,43 @@ int safeguardStep(Kernel &k, const double *cFree, const double *previous, const 
   double trial = 0;
   residual = referenceEvaluate(k, c, m, trial);
   step = 1;
-  if (!settings.safeguards || accept(settings, before, trial, residual)) { merit = trial; return NewtonKept; }
+  NewtonState::Watchdog &watch = newton.watch;
+  if (!settings.safeguards) { merit = trial; return NewtonKept; }
+  if (watch.active) {
+    if (accept(settings, watch.merit, trial, residual)) { watch.active = false; watch.replacedInRow = 0; merit = trial; return NewtonKept; }
+    // a cycle: the pieces of an iterate it kept before, and no lower merit than then
+    bool cycle = false;
+    for (size_t e = 0; e < watch.keys.size() && !cycle; e++) cycle = watch.keys[e] == k.law.key && !(trial < watch.merits[e]);
+    watch.keys.push_back(k.law.key);
+    watch.merits.push_back(trial);
+    if (++watch.kept < watchdogLength && !cycle) { merit = trial; return WatchdogKept; }
+    watch.active = false; watch.spent = true;           // none lowered the reference's merit: back to it
+    std::copy(watch.m.begin(), watch.m.end(), m);
+    std::copy(watch.c.begin(), watch.c.end(), c);
+    residual = referenceEvaluate(k, c, m, merit);
+    step = 0;
+    newton.watchdogReturns++;
+    return WatchdogReturned;
+  }
+  if (accept(settings, before, trial, residual)) { merit = trial; watch.replacedInRow = 0; watch.spent = false; return NewtonKept; }
+  const int outcome = replaceNewtonIterate(k, cFree, previous, newtonM, before, trial, c, m, merit, residual, step);
+  if (outcome == NewtonKept) return outcome;
+  if (++watch.replacedInRow >= 2 && !watch.spent) {
+    watch.active = true; watch.kept = 0; watch.merit = merit;
+    watch.keys.clear(); watch.merits.clear();
+    watch.c.assign(c, c + nc); watch.m.assign(m, m + nc);
+    newton.watchdogs++;
+  }
+  return outcome;
+}
+// The monotone safeguard's replacement of a rejected Newton iterate newtonM (its merit
+// trialMerit): the better of a shortened Newton step and a fixed-point iteration from the
+// previous iterate (its merit before); the Newton iterate itself where both are worse
+int replaceNewtonIterate(Kernel &k, const double *cFree, const double *previous, const double *newtonM, double before,
+                         double trialMerit, double *c, double *m, double &merit, double &residual, double &step) {
+  NewtonState &newton = k.newton;
+  const SolverSettings &settings = k.settings;
+  const int nc = k.factor.nc;
   // the line search's candidate
   std::vector<double> mCut(nc);
   double cutMerit = INFINITY, cutStep = 0;
@@ -526,6 +575,15 @@ int safeguardStep(Kernel &k, const double *cFree, const double *previous, const 
   std::copy(previous, previous + nc, m);
   residual = fixedPointIteration(k, cFree, c, m, merit);
   step = 0;
+  if (!(cutMerit < trialMerit) && !(merit < trialMerit)) {
+    // neither is better than the Newton iterate itself (one at a round-off floor, which cannot
+    // lower the merit further): keep it, rather than leave the floor and come back to it
+    std::copy(newtonM, newtonM + nc, m);
+    velocities(k, cFree, m, c);
+    residual = referenceEvaluate(k, c, m, merit);
+    step = 1;
+    return NewtonKept;
+  }
   if (!(cutMerit < merit)) { newton.fallbacks++; return FixedPointTaken; }
   std::copy(mCut.begin(), mCut.end(), m);
   velocities(k, cFree, m, c);
@@ -533,6 +591,15 @@ int safeguardStep(Kernel &k, const double *cFree, const double *previous, const 
   step = cutStep;
   newton.cuts++;
   return NewtonShortened;
+}
+
+// Are the pieces of the law's last evaluate() those of the last call within the step (Newton's
+// correction form: newtonIterations, and the script view)? newtonStart forgets them.
+bool piecesRepeat(Kernel &k) {
+  NewtonState &newton = k.newton;
+  const bool repeat = newton.lastKeys == k.law.key;
+  newton.lastKeys = k.law.key;
+  return repeat;
 }
 
 // The start of a Newton step: the log's iteration 0 (the previous step's multipliers with this
@@ -543,6 +610,9 @@ double newtonStart(Kernel &k, const double *cFree, const double *c, const double
   const Factorization &factor = k.factor;
   std::vector<double> cStart(factor.nc);
   velocities(k, cFree, m, cStart.data());
+  k.newton.watch = NewtonState::Watchdog();
+  k.newton.lastKeys.clear();
+  roundoffScale(k, cFree, m);
   logIteration(k, 0, referenceEvaluate(k, cStart.data(), m, merit));
   double unused = 0;
   return referenceEvaluate(k, c, m, unused);
@@ -580,6 +650,8 @@ void logIteration(Kernel &k, int it, double residual, int outcome, double step) 
   if (outcome == FixedPointTaken) line += " (the Newton iterate did not lower the merit: one fixed-point iteration instead)";
   if (outcome == NewtonShortened)
     line += " (the Newton iterate did not lower the merit: the step " + std::to_string((int)std::lround(1 / step)) + " times shorter)";
+  if (outcome == WatchdogKept) line += " (watchdog: the Newton iterate kept although the merit rose)";
+  if (outcome == WatchdogReturned) line += " (watchdog: no kept iterate lowered the merit: back to where it started)";
   line += first ? "; slots:" : "; changed:";
   int shown = 0;
   for (int p = 0; p < 5; p++) {
@@ -606,7 +678,7 @@ bool newtonIterations(Kernel &k, const std::vector<double> &cFree, std::vector<d
   contactlaw::Slots &law = k.law;
   const SolverSettings &settings = k.settings;
   const int nc = factor.nc;
-  std::vector<double> previous(nc), rhs(nc), newtonM(nc);
+  std::vector<double> previous(nc), rhs(nc), newtonM(nc), res(nc);
   double merit = 0;
   residual = newtonStart(k, cFree.data(), c.data(), m.data(), merit);
   it = 0; unresolved = 0;
@@ -620,10 +692,20 @@ bool newtonIterations(Kernel &k, const std::vector<double> &cFree, std::vector<d
       for (int t = 1; t < relationTerms; t++) if (law.a[relationTerms * j + t] != 0) rhs[j] -= law.a[relationTerms * j + t] * cFree[law.aSlot[relationTerms * j + t]];
     }
     previous = m;
-    if (!newtonSolve(k, rhs.data(), newtonM.data())) { residual = NAN; break; }
+    // the pieces of the last iteration again (a round-off floor, or a 3D disk's slip, whose rows
+    // follow the slip direction): Newton as a correction of m, N d = rhs - N m, which refines
+    // the last solve where a new solve from scratch would repeat its round-off (the sloped 3D
+    // body of docs/stability.md crept at 1e-9 with the pieces settled)
+    const bool correction = piecesRepeat(k);
+    if (correction) {
+      rowResidual(k, rhs.data(), m.data(), res.data());
+      if (!newtonSolve(k, res.data(), newtonM.data())) { residual = NAN; break; }
+      for (int j = 0; j < nc; j++) newtonM[j] += m[j];
+    }
+    else if (!newtonSolve(k, rhs.data(), newtonM.data())) { residual = NAN; break; }
     double step = 1;
     const int outcome = safeguardStep(k, cFree.data(), previous.data(), newtonM.data(), merit, c.data(), m.data(), residual, step,
-                                      newton.haveDx ? newton.Dx.data() : nullptr);
+                                      newton.haveDx && !correction ? newton.Dx.data() : nullptr);
     it++;
     logIteration(k, it, residual, outcome, step);
     done = stepConverged(k, residual, c.data(), unresolved);

@@ -207,6 +207,20 @@ struct NewtonState {
   long cuts = 0;                       // ... by a shortened Newton step
   long halvings = 0;                   // of r by the cycle guard
   long retries = 0;                    // steps a disk's Newton solved again without its safeguards
+  long watchdogs = 0;                  // watchdog starts (safeguardStep): Newton iterates kept although the merit rose
+  long watchdogReturns = 0;            // ... that ended back at their reference
+  std::vector<int> lastKeys;           // the pieces at the last piecesRepeat() of the step
+  // the watchdog of the step under way (safeguardStep; reset by newtonStart)
+  struct Watchdog {
+    int replacedInRow = 0;             // Newton iterates the safeguard replaced in a row
+    bool active = false;               // Newton iterates are kept whatever their merit
+    bool spent = false;                // it ended at its reference: not again before a Newton iterate passes
+    int kept = 0;                      // iterates it kept
+    double merit = 0;                  // the reference's merit, which a kept iterate must lower
+    std::vector<double> c, m;          // the reference
+    std::vector<std::vector<int>> keys;  // the pieces (Slots::key) of the iterates it kept
+    std::vector<double> merits;        // ... and their merits
+  } watch;
   std::vector<double> seen;            // the cycle guard's fingerprints of the step's iterations
   std::vector<double> rDefault;        // r_j at the start of a step
   long generation = -1;                // the factor the base matrix belongs to

@@ -596,16 +596,28 @@ long runMeshLacksLabel(std::string *const &path, std::string *const &labels) {
   return -1;
 }
 
-// a .geo is meshed in 3D (gmsh -3) if it defines a Physical Volume
-long runGeoDimension(std::string *const &path) {
-  std::ifstream f(*path);
+// a .geo is meshed in 3D (gmsh -3) if it defines a Physical Volume, itself or in a file it
+// includes (Include "NAME", relative to its folder: meshes/twistedbox.geo includes hexbody.geo)
+namespace {
+int geoDimension(const std::string &path, int depth) {
+  std::ifstream f(path);
   std::string line;
+  const size_t slash = path.rfind('/');
+  const std::string folder = slash == std::string::npos ? "" : path.substr(0, slash + 1);
   while (std::getline(f, line)) {
-    const size_t comment = line.find("//");
-    if (line.substr(0, comment).find("Physical Volume") != std::string::npos) return 3;
+    const std::string code = line.substr(0, line.find("//"));
+    if (code.find("Physical Volume") != std::string::npos) return 3;
+    const size_t include = code.find("Include");
+    if (include == std::string::npos || depth >= 8) continue;
+    const size_t open = code.find('"', include), close = open == std::string::npos ? open : code.find('"', open + 1);
+    if (close == std::string::npos) continue;
+    const std::string name = code.substr(open + 1, close - open - 1);
+    if (geoDimension(!name.empty() && name[0] == '/' ? name : folder + name, depth + 1) == 3) return 3;
   }
   return 2;
 }
+}  // namespace
+long runGeoDimension(std::string *const &path) { return geoDimension(*path, 0); }
 
 // one limit: meshes.idp refuses a scene's structured mesh of that ratio before gmsh makes it
 double runMeshExtentRatio() { return maxExtentRatio; }

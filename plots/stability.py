@@ -31,7 +31,7 @@ MODE_TEXT = {
     "stuck": "cap: stuck", "cycling": "cap: cycling", "diverging": "cap: growing", "cap": "cap",
     "nonfinite": "non-finite", "check": "end-of-run check", "timeout": "time limit", "error": "other error",
 }
-METHOD_ORDER = ["orig-newton-on", "orig-newton-off", "orig-fixedpoint", "pen-newton-compliant-on",
+METHOD_ORDER = ["orig-newton-on", "orig-newton-off", "orig-newton-script-on", "orig-fixedpoint", "pen-newton-compliant-on",
                 "pen-newton-compliant-off", "pen-newton-literal-on", "pen-newton-literal-off", "pen-fixedpoint"]
 
 
@@ -226,13 +226,31 @@ def map_paper_box(results, out):
     save(fig, out, "paper_box")
 
 
+def map_bodies(results, out):
+    """The hard bodies (a curved 2D body, a twisted 3D body) at the defaults of each method, over mu."""
+    rows = rows_of(results, "bodies")
+    bodies = sorted({r["body"] for r in rows})
+    methods = methods_present(rows)
+    fig, axes = plt.subplots(1, len(bodies), figsize=(4.2 * len(bodies) + 1, 0.42 * len(methods) + 1.8), squeeze=False)
+    modes = set()
+    for ax, body in zip(axes[0], bodies):
+        sel = [r for r in rows if r["body"] == body]
+        modes |= heatmap(ax, sel, "mu", "method", "friction coefficient mu", "", yorder=methods[::-1], xfmt=number)
+        ax.set_title(f"{body}: each method at its defaults", fontsize=9)
+    fig.suptitle("hard bodies; cell: mean/max iterations per step, or the failing step", y=1.02)
+    fig.tight_layout()
+    legend(fig, modes)
+    save(fig, out, "bodies")
+
+
 MAPS = {
     "eps_method": map_eps_method, "r_method": map_r_method, "k_mu": map_k_mu, "mu_method": map_mu_method,
     "load_method": map_load_method, "k_method": map_k_method, "mesh_r": map_mesh_r,
-    "fixedpoint_mesh_k": map_fixedpoint_mesh_k, "paper_box": map_paper_box,
+    "fixedpoint_mesh_k": map_fixedpoint_mesh_k, "paper_box": map_paper_box, "bodies": map_bodies,
 }
 SOURCES = {"eps_method": "eps", "r_method": "r", "k_mu": "kmu", "mu_method": "mu", "load_method": "load",
-           "k_method": "k", "mesh_r": "mesh", "fixedpoint_mesh_k": "fixedpoint", "paper_box": "box"}
+           "k_method": "k", "mesh_r": "mesh", "fixedpoint_mesh_k": "fixedpoint", "paper_box": "box",
+           "bodies": "bodies"}
 
 
 def main():

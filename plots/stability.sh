@@ -270,10 +270,19 @@ points() {
     done
     for r in 0.1 10; do point agree "orig-newton-on_${name}_r$r" "${REDUCED[@]}" $(method_options orig-newton-on) $opts -r "$r"; done
   done
+  # hard bodies (docs/stability.md, "Hard bodies"): a curved 2D body and a twisted 3D body,
+  # held by the contact (and their top's x), at the defaults of each method (no -maxit) over mu
+  local bodies=(halfdisk twisted3d) bmu2=(0 0.4 0.7 1) body
+  [ "$quick" = 1 ] && bmu2=(0.4)
+  for body in "${bodies[@]}"; do for mu in "${bmu2[@]}"; do
+    point bodies "${body}_newton_mu$mu" -scene "$body" -mu "$mu"
+    point bodies "${body}_newton-script_mu$mu" -scene "$body" -mu "$mu" -kernel script
+    point bodies "${body}_penalty_mu$mu" -scene "$body" -mu "$mu" -problem penalty
+    point bodies "${body}_fixedpoint_mu$mu" -scene "$body" -mu "$mu" -solver fixedpoint
+  done; done
   # hopeless settings: each must exit non-zero, say why, and leave no output folder
   point hopeless maxit1 "${REDUCED[@]}" -maxit 1
   point hopeless tol1e-20 "${REDUCED[@]}" -tol 1e-20
-  point hopeless literal-eps1e-12-off "${REDUCED[@]}" -problem penalty -penaltyform literal -eps 1e-12 -safeguard off -maxit $NEWTON_CAP
   point hopeless newton-off-r1e3 "${REDUCED[@]}" -safeguard off -r 1e3 -maxit $NEWTON_CAP
   point hopeless fixedpoint-maxit2 "${REDUCED[@]}" -solver fixedpoint -maxit 2
   point hopeless load1e308 "${REDUCED[@]}" -load 1e308

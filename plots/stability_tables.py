@@ -38,7 +38,7 @@ import runfiles
 AGREEMENT_RTOL = 1e-8
 METHOD_OPTIONS = ("solver", "safeguard", "penaltyform", "r", "maxit", "out")
 # The paper box of the brief: mu 0..1.5, load 1..100 (0.1x to 10x), k 1e-4..0.2, eps >= 1e-12.
-COLUMNS = ("id method problem solver safeguard penaltyform nx ny T dt mu load eps r maxit exit mode period "
+COLUMNS = ("id body method problem solver safeguard penaltyform nx ny T dt mu load eps r maxit exit mode period "
            "fail_step fail_iterations fail_residual half_residual iter_mean iter_max steps fallbacks sweeps "
            "check_constraint check_penalty_law check_energy_residual wall_s").split()
 
@@ -64,7 +64,8 @@ def method_name(o):
     prefix = "orig" if o["problem"] == "original" else "pen"
     if o["solver"] == "newton":
         form = [o["penaltyform"]] if o["problem"] == "penalty" else []
-        return "-".join([prefix, "newton"] + form + [o["safeguard"]])
+        view = ["script"] if o["kernel"] == "script" else []
+        return "-".join([prefix, "newton"] + view + form + [o["safeguard"]])
     if o["solver"] == "fixedpoint":
         return f"{prefix}-fixedpoint"
     return f"{prefix}-{o['solver']}"
@@ -88,6 +89,8 @@ def classify(record):
         return ("nonfinite", 0) + fail + (float("nan"),)
     if code == 9:
         return ("check", 0) + none
+    if code == 4 and failure and "stalled" in failure.mode:     # the fixed point's own stall test
+        return ("stalled", 0) + fail + (float("nan"),)
     if code != 4 or not failure or "iteration cap" not in failure.mode:
         return ("error", 0) + none
     step, iterations, residual = fail
@@ -140,7 +143,8 @@ def build_rows(results):
         def num(key):
             return summary.real(key) if key in summary else float("nan")
         steps = num("steps")
-        row = {"sweep": record["sweep"], "id": record["id"], "method": method_name(o), "problem": o["problem"],
+        row = {"sweep": record["sweep"], "id": record["id"], "body": record["given"].get("scene", "paper"),
+               "method": method_name(o), "problem": o["problem"],
                "solver": o["solver"], "safeguard": o["safeguard"], "penaltyform": o["penaltyform"],
                "nx": o.integer("nx"), "ny": o.integer("ny"), "T": o.real("T"), "dt": o.real("dt"),
                "mu": o.real("mu"), "load": o.real("load"), "eps": o.real("eps"), "r": o.real("r"),
@@ -315,7 +319,7 @@ def write_summary(path, rows, pairs, hopeless_checks, results):
         lines.append(f"# failures of the {solver} default inside the paper box (mu 0..1.5, load 1..100, k 1e-4..0.2,")
         lines.append(f"# eps >= 1e-12): safeguards on, compliant form, r = 1 (box sweep: maxit {shipped} as")
         lines.append("# shipped; the other sweeps: their cap), with the command line that reproduces each")
-        defaults = [r for r in rows if r["sweep"] not in ("hopeless", "mesh") and r["solver"] == solver
+        defaults = [r for r in rows if r["sweep"] not in ("hopeless", "mesh", "bodies") and r["solver"] == solver
                     and r["safeguard"] == "on" and r["penaltyform"] == "compliant" and r["r"] == 1.0
                     and 0 <= r["mu"] <= 1.5 and 1 <= r["load"] <= 100 and 1e-4 <= r["dt"] <= 0.2
                     and r["eps"] >= 1e-12]
@@ -326,6 +330,13 @@ def write_summary(path, rows, pairs, hopeless_checks, results):
         for r in failed:
             lines.append(f"#   {r['sweep']} {r['id']} {r['mode']}: {r['record']['message']}")
             lines.append(f"#   {command_line(r)}")
+    bodies = [r for r in rows if r["sweep"] == "bodies"]
+    if bodies:
+        lines.append("")
+        lines.append("# the hard bodies at the defaults of each method (bodies sweep): failures per method")
+        for method in sorted({r["method"] for r in bodies}):
+            sel = [r for r in bodies if r["method"] == method]
+            lines.append(f"bodies_failures {method} {sum(r['mode'] != 'ok' for r in sel)} of {len(sel)}")
     with open(path, "w") as f:
         f.write("\n".join(lines) + "\n")
 

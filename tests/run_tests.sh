@@ -82,8 +82,12 @@ run_case() {
 
 # Outputs prepared for numdiff: no timing lines, no round-off-only lines (check_*), and not
 # the counts of how the Newton matrix was solved (factorizations or low-rank corrections:
-# which one a step uses depends on a round-off residual test, not on the physics).
-numeric_view() { grep -v -e '^time_' -e '^check_' -e '^newton_factorizations ' -e '^newton_low_rank_corrections ' -e '^newton_refinements ' "$1"; }
+# which one a step uses depends on a round-off residual test, not on the physics), nor the
+# versions that made the run (suite_version changes with every commit).
+numeric_view() {
+  grep -v -e '^time_' -e '^check_' -e '^newton_factorizations ' -e '^newton_low_rank_corrections ' -e '^newton_refinements ' \
+    -E -e '^(# )?(suite|freefem|gmsh)_version ' "$1"
+}
 
 # compare_numeric MODE REF NEW ABS REL [EXCLUDED FIELD...]: numdiff (MODE -q quiet or
 # -S statistics) with a per-column absolute floor ABS * the column's scale in REF (ABS alone

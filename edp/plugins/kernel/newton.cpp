@@ -495,7 +495,7 @@ bool stepConverged(Kernel &k, double residual, const double *c, int &unresolved)
 // iterate goes back to the reference and the monotone safeguard goes on, the watchdog not
 // starting again before a Newton iterate passes. A slip front spreading along a curved face
 // raises the merit at every Newton iterate of a step that converges in about ten (the half-disk:
-// docs/stability.md, "Why the half-disk needs so many iterations"); two replacements in a row,
+// docs/stability.md, "Hard bodies"); two replacements in a row,
 // not one, because a step of the paper's block starts with two, which its references record.
 namespace {
 const int watchdogLength = 12;

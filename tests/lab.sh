@@ -138,23 +138,53 @@ for run in paper eps/eps-1e-2 eps/eps-1e-3 eps/eps-1e-4 eps/eps-1e-5 eps/eps-1e-
 done
 keys paper iterations_total=38
 keys literal/eps-1e-4 iterations_total=39 zone_damped_slip=7 zone_bound_slip=14 zone_bound_stick=11
-keys literal/eps-1e-8 zone_damped_slip=7 zone_bound_slip=14 zone_bound_stick=11
+# the literal row at 1e-8 and 1e-10, with the safeguard and without it (its solve ran to exit 0,
+# or the block would have stopped): the compliant row's zones and solution
+for run in literal/eps-1e-8 literal/eps-1e-10 literal-off; do zones "$run" 1 7 0 14 11; done
 keys eps/eps-1e-8 iterations_total=38 newton_fallbacks=1
-# the counts of the literal row are decided by round-off: the sheet states only that they
-# exceed the compliant row's, and by a dozen or more fallbacks
-more() { # more RUN KEY THAN: KEY of RUN/summary.txt is above THAN
+keys eps/eps-1e-10 iterations_total=38 newton_fallbacks=1
+keys literal/eps-1e-8 newton_fallbacks=1
+keys literal/eps-1e-10 newton_fallbacks=1
+# within RUN KEY LOW HIGH: KEY of RUN/summary.txt is in [LOW, HIGH]
+within() {
   local n; n="$(key "$1" "$2")"
-  [ -n "$n" ] && [ "$n" -gt "$3" ] || problem "$2 above $3 for \$LAB/$1 (it has '$n')"
+  [ -n "$n" ] && [ "$n" -ge "$3" ] && [ "$n" -le "$4" ] || problem "$2 in [$3, $4] for \$LAB/$1 (it has '$n')"
 }
-more literal/eps-1e-8 iterations_total 38
-more literal/eps-1e-8 newton_fallbacks 11
-[ ! -e "$LAB/literal-off" ] || problem "the literal row at eps = 1e-8 without the safeguard fails and writes nothing"
-# residual R: between 1e-10 (the tolerance it failed) and 1e-8; its digits are round-off's
-awk '/^error: step [0-9]+ \(t = [0-9.]+\): the contact solver did not converge after 50 iterations \(iteration cap reached\), residual / {
-       r = $0; sub(/.*residual /, "", r); sub(/ .*/, "", r); if (r + 0 > 1e-10 && r + 0 < 1e-8) found = 1 }
-     END { exit !found }' "$log" \
-  || problem "without the safeguard the literal row stops with 'did not converge after 50 iterations (iteration cap reached), residual R', R between 1e-10 and 1e-8"
-said "exit status 4"
+# the counts of the literal row are decided by round-off (which solves from scratch stop above
+# the tolerance, which low-rank solves are refined): the sheet states ranges. At most one
+# correction a step, in the steps whose solve from scratch stops above the tolerance: five at
+# 1e-10 (43 measured, with -O2 and with -O2 -march=native -ffp-contract=fast), at 1e-8 a subset
+# of those, the residual there being smaller, like 1/eps (39 and 40 measured)
+within literal/eps-1e-8 iterations_total 38 43
+within literal/eps-1e-10 iterations_total 40 46
+# "some twenty" refined low-rank solves for the literal row (22 to 27 measured), "none or almost
+# none" for the compliant row (0 measured)
+for run in literal/eps-1e-8 literal/eps-1e-10; do within "$run" newton_refinements 10 40; done
+for run in eps/eps-1e-8 eps/eps-1e-10; do within "$run" newton_refinements 0 3; done
+# tables.py: the literal runs at 1e-10 within round-off of the compliant one (about 1e-14
+# measured; the sheet says "about 1e-14, far below what the tolerance allows": checked below 1e-12)
+for run in literal/eps-1e-10 literal-off; do
+  awk -v run="/$run" 'NF == 9 && substr($1, length($1) - length(run) + 1) == run {
+       n++; if (!($3 == 7 && $4 == 14 && $5 == 11 && $8 + 0 < 1e-12 && $9 + 0 < 1e-12)) bad = 1 }
+     END { exit bad || n != 1 }' "$log" \
+    || problem "tables.py finds \$LAB/$run within round-off (below 1e-12) of \$LAB/eps/eps-1e-10, zones 7 14 11"
+done
+# the log of step 7 of the literal row at 1e-10 (the sheet's only 'step 7/7'): iteration 2, with
+# the pieces iteration 1 found, at the round-off of a solve from scratch, "a few 1e-7" (3.8e-7 to
+# 5.2e-7 measured; checked in [1e-9, 1e-5], as its digits are round-off's), far above the
+# tolerance; iteration 3, the correction with the same pieces, at round-off (about 1.5e-15
+# measured; "below 1e-12")
+awk '/^  iteration 0 / { split("", line) }
+     /^  iteration [0-9]+: / { i = $2; sub(/:/, "", i); line[i] = $0 }
+     /^step 7\/7 \(t = 0\.35\): / {
+       seen++
+       if ($6 == "3" && line[2] ~ /; changed: none$/ && line[3] ~ /; changed: none$/) {
+         r2 = line[2]; sub(/.*: residual /, "", r2); sub(/;.*/, "", r2)
+         r3 = line[3]; sub(/.*: residual /, "", r3); sub(/;.*/, "", r3)
+         if (r2 + 0 >= 1e-9 && r2 + 0 <= 1e-5 && r3 + 0 < 1e-12) ok = 1
+       } }
+     END { exit !(seen == 1 && ok) }' "$log" \
+  || problem "step 7 of \$LAB/literal-log takes 3 iterations: iteration 2 (changed: none) at a residual of a few 1e-7 (in [1e-9, 1e-5]), iteration 3 (changed: none) below 1e-12"
 # 3. Newton against the fixed point
 [ "$(named solvers/newton history.txt iterations | tr '\n' ' ')" = "2 2 " ] || problem "Newton takes 2 then 2 iterations"
 [ "$(named solvers/fixedpoint history.txt iterations | tr '\n' ' ')" = "15 15 " ] || problem "the fixed point takes 15 and 15 iterations"
@@ -199,7 +229,7 @@ column ex2/load-40 contact_history.txt normal_force 60.50 60.51 1
 grep -q 'ex3/dt-0.05 - dt-0.025 .* 1\.20$' "$log" && grep -q 'ex3/dt-0.025 - dt-0.0125 .* 1\.12$' "$log" || problem "the orders 1.20 then 1.12"
 for dt in 0.1 0.05 0.025 0.0125; do zones "ex3/dt-$dt" 1 7 0 14 11; done
 # the sweeps: every value ran, and each row of sweep.txt is its run's own (tests/check_sweep.py)
-for sweep in "eps eps 1e-2,1e-3,1e-4,1e-5,1e-6,1e-8,1e-10" "literal eps 1e-4,1e-8" "ex1/linear tol 1e-6,1e-10,1e-12" \
+for sweep in "eps eps 1e-2,1e-3,1e-4,1e-5,1e-6,1e-8,1e-10" "literal eps 1e-4,1e-8,1e-10" "ex1/linear tol 1e-6,1e-10,1e-12" \
              "ex1/power tol 1e-6,1e-10,1e-12" "ex2 load 2.5,10,40" "ex3 dt 0.1,0.05,0.025,0.0125"; do
   set -- $sweep
   /usr/bin/python3 "$root/tests/check_sweep.py" "$LAB/$1" "$2" "$3" >&2 || problem "a row per value of -$2 ($3) in \$LAB/$1/sweep.txt, each its run's"

@@ -254,7 +254,8 @@ def energy_history(results, out):
 
 def zone_boundaries(results, out):
     """Zone boundaries x_B (first node at the bound) and x_C (first sticking node in contact)
-    against t (left), and the zone counts AB, BC, CD (right); nan (not drawn) where absent."""
+    against t (left; dashed, the original problem's estimates between the nodes), and the zone
+    counts AB, BC, CD (right); nan (not drawn) where absent."""
     fig, (left, right) = plt.subplots(1, 2)
     tables = []
     for problem, line in zip(PROBLEMS, ({"linestyle": "-"}, {"linestyle": "none", "marker": "o", "markersize": 2.5})):
@@ -263,6 +264,11 @@ def zone_boundaries(results, out):
         name = style.problem_label(h.params)
         left.plot(h["t"], h["x_B"], color="tab:orange", label=f"$x_B$, {name}", **line)
         left.plot(h["t"], h["x_C"], color="tab:purple", label=f"$x_C$, {name}", **line)
+        if problem == PROBLEMS[0] and "x_B_estimate" in h.columns:   # between the nodes (docs/design.md)
+            left.plot(h["t"], h["x_B_estimate"], color="tab:orange", linestyle="--", linewidth=0.8,
+                      label=f"$x_B$ between the nodes, {name}")
+            left.plot(h["t"], h["x_C_estimate"], color="tab:purple", linestyle="--", linewidth=0.8,
+                      label=f"$x_C$ between the nodes, {name}")
         counts = style.paper_segment_counts(h)
         for segment in style.PAPER_SEGMENTS:
             right.plot(h["t"], counts[segment.name], color=segment.color,

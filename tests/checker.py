@@ -84,14 +84,15 @@ class Checker:
             self.expect(name in self.h, f"history.txt lacks column {name}")
         for name in ("x", "y", "u_x", "u_y", "v_x", "v_y", "von_mises"):
             self.expect(name in self.f, f"fields.txt lacks column {name}")
-        # every table finite where the solver writes finite numbers (x_B, x_C may be nan),
+        # every table finite where the solver writes finite numbers (the zone boundaries may be nan),
         # with the rows summary.txt announces
         for name, table, rows in (("contact.txt", self.c, "contact_nodes"), ("fields.txt", self.f, "vertices"),
                                   ("history.txt", self.h, "steps"), ("contact_history.txt", self.ch, "steps")):
             finite = table.data if name != "contact_history.txt" else \
-                table.data[:, [k for k, column in enumerate(table.columns) if column not in ("x_B", "x_C")]]
+                table.data[:, [k for k, column in enumerate(table.columns) if column not in runfiles.ZONE_BOUNDARY_COLUMNS]]
             self.expect(bool(np.isfinite(finite).all()), f"{name} holds non-finite numbers"
-                        + (" (beyond x_B, x_C, nan where there is none)" if name == "contact_history.txt" else ""))
+                        + (" (beyond " + ", ".join(runfiles.ZONE_BOUNDARY_COLUMNS) + ", nan where there is none)"
+                           if name == "contact_history.txt" else ""))
             self.expect(str(len(table)) == self.summary[rows],
                         f"{name} has {len(table)} rows, summary.txt says {rows} {self.summary[rows]}")
         self.zone_columns = runfiles.zone_names(self.ch.columns)

@@ -209,6 +209,20 @@ const int zoneCount = sizeof zoneNames / sizeof zoneNames[0];
 // and x_C, the smallest x of a node in contact that sticks.
 inline bool marksB(int normal, int) { return normal == 2; }
 inline bool marksC(int normal, int tangential) { return normal > 0 && tangential == 0; }
+// Where between two nodes a zone ends (x_B_estimate, x_C_estimate): the law's switching
+// functions, >= 0 on the piece and < 0 off it, vanishing where the piece ends, interpolated
+// along Gamma3 between a node on the piece and its neighbour off it. At the bound: the normal
+// stress beyond p(g) plus the velocity beyond g at the scale p(g)/g (in a damped zone both are
+// negative, at the bound both >= 0, and both vanish where the bound zone begins). Slip: the
+// tangential stress beyond the friction bound mu p(v_nu) plus the slip velocity at that scale
+// (stick: the first < 0 and the second 0; slip: the first 0 and the second > 0).
+inline double switchScale(const Parameters &P, double g) { return forceScale(P, g) / g; }
+inline double boundSwitch(const Parameters &P, double pn, double vn, double g) {
+  return pn - dampedResponse(P, g) + switchScale(P, g) * (vn - g);
+}
+inline double slipSwitch(const Parameters &P, double lambdaTau, double vTau, double vn, double g) {
+  return lambdaTau - frictionBound(P, vn) + switchScale(P, g) * vTau;   // lambdaTau, vTau: lengths
+}
 
 // ============ derived from the law above: pieces, resolvents, relations (no need to edit) ============
 //

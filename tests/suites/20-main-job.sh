@@ -32,3 +32,35 @@ else
 fi
 report $status "./run.sh main job: tables, figures, zones 15/29, eps slope in [0.95, 1.05]" "$diag"
 
+
+# ---- the zone boundaries between the nodes (docs/design.md, "Output files"): x_B_estimate
+# and x_C_estimate at T lie between the zone's first node (x_B, x_C) and its neighbour of next
+# smaller x on Gamma3, equal the last row of contact_history.txt, and are nan in 3D
+diag="$work/zone-estimates.diag"; : > "$diag"; status=0
+"$PYTHON" - "$work" >> "$diag" 2>&1 <<'PY' || status=1
+import math, os, sys
+sys.path.insert(0, "edp")
+import numpy as np
+import runfiles
+work = sys.argv[1]
+failures = []
+for run in ("paper-original", "paper-penalty"):
+    folder = os.path.join(work, run)
+    summary = runfiles.read_summary(folder)
+    x = np.sort(runfiles.read_table(os.path.join(folder, "contact.txt"))["x"])
+    history = runfiles.read_table(os.path.join(folder, "contact_history.txt"))
+    for node, estimate in (("x_B", "x_B_estimate"), ("x_C", "x_C_estimate")):
+        at, value = summary.real(node), summary.real(estimate)
+        left = x[x < at].max() if np.any(x < at) else at
+        if not left <= value <= at:
+            failures.append(f"{run}: {estimate} = {value} not between the node before {node} ({left}) and {node} = {at}")
+        if history[estimate][-1] != value:
+            failures.append(f"{run}: {estimate} of summary.txt ({value}) is not the last row of contact_history.txt ({history[estimate][-1]})")
+summary = runfiles.read_summary(os.path.join(work, "slab3d"))
+for key in ("x_B_estimate", "x_C_estimate"):
+    if summary[key] != "nan":
+        failures.append(f"slab3d: {key} = {summary[key]}, expected nan in 3D")
+print("\n".join(failures))
+sys.exit(1 if failures else 0)
+PY
+report $status "zone boundaries between the nodes: x_B_estimate, x_C_estimate between the zone's first node and the one before it (paper, both problems), nan in 3D" "$diag"

@@ -36,7 +36,8 @@ namespace contactkernel {
   X(RecordTangentialForce, "tangential_force", false)                                                  \
   X(RecordZone0, zoneColumn(0), true) X(RecordZone1, zoneColumn(1), true) X(RecordZone2, zoneColumn(2), true) \
   X(RecordZone3, zoneColumn(3), true) X(RecordZone4, zoneColumn(4), true)                              \
-  X(RecordXB, "x_B", false) X(RecordXC, "x_C", false) X(RecordTangentialForce2, "tangential_force2", false)
+  X(RecordXB, "x_B", false) X(RecordXC, "x_C", false) X(RecordTangentialForce2, "tangential_force2", false) \
+  X(RecordXBEstimate, "x_B_estimate", false) X(RecordXCEstimate, "x_C_estimate", false)
 
 #define CONTACTKERNEL_HISTORY_COLUMNS(X)                                                               \
   X(HistoryT, "t", false) X(HistoryIterations, "iterations", true) X(HistoryResidual, "residual", false)

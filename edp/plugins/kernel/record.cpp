@@ -34,6 +34,57 @@ NodeValues nodeValues(const Kernel &k, int i, const double *ov, const double *La
   s.tangential = tangentialStatus(rows == 3 ? std::hypot(s.vt, s.vt2) : s.vt, nodes.g[i]);
   return s;
 }
+// The zone boundaries between the nodes (2D, Gamma3 ordered by x), from the law's switching
+// functions (contactlaw.hpp: boundSwitch, slipSwitch; >= 0 on the piece, < 0 next to it):
+// - x_C, where sticking begins: the slip velocity falls to 0 linearly and the stick margin
+//   grows linearly from 0, so the switching function is linear across the boundary: its
+//   zero between the first sticking node and its neighbour of next smaller x;
+// - x_B, where the bound begins: the velocity reaches g tangentially (v_nu - g is quadratic
+//   on the damped side, as the gap of an obstacle problem), while the bound's multiplier grows
+//   linearly from 0: the zero of the straight line through the switching function at the first
+//   two nodes at the bound, kept between the first and its neighbour off the bound (the
+//   crossing between those two, where there is no second node at the bound).
+// The node's own x where no crossing is found; 1e300 where the zone does not exist, and in 3D.
+void zoneEstimates(const Kernel &k, const double *ov, const double *Lam, double xB, double xC, double &estimateB, double &estimateC) {
+  const ContactNodes &nodes = k.nodes;
+  const Parameters &P = k.law.P;
+  estimateB = 1e300; estimateC = 1e300;
+  if (!nodes.frame.empty()) return;
+  const int nn = nodes.count();
+  auto boundValue = [&](int i) { const NodeValues s = nodeValues(k, i, ov, Lam); return boundSwitch(P, s.pn, s.vn, nodes.g[i]); };
+  auto stickValue = [&](int i) {                     // stick is the piece: -slipSwitch, in contact only
+    const NodeValues s = nodeValues(k, i, ov, Lam);
+    return s.normal > 0 ? -slipSwitch(P, std::fabs(s.lt), std::fabs(s.vt), s.vn, nodes.g[i]) : NAN;
+  };
+  // the node at x (the zone's first) and its neighbours of next smaller and next larger x (-1: none)
+  auto around = [&](double x, int &at, int &left, int &right) {
+    at = -1; left = -1; right = -1;
+    for (int i = 0; i < nn; i++) {
+      if (nodes.x[i] == x && at < 0) at = i;
+      if (nodes.x[i] < x && (left < 0 || nodes.x[i] > nodes.x[left])) left = i;
+      if (nodes.x[i] > x && (right < 0 || nodes.x[i] < nodes.x[right])) right = i;
+    }
+  };
+  // the zero between a < b of the line through (a, fa), (b, fb)
+  auto crossing = [](double a, double fa, double b, double fb) { return a + (b - a) * (-fa) / (fb - fa); };
+  int at = -1, left = -1, right = -1;
+  if (xB < 1e300) {
+    around(xB, at, left, right);
+    estimateB = xB;
+    const double f = at >= 0 ? boundValue(at) : NAN, fLeft = left >= 0 ? boundValue(left) : NAN;
+    const double fRight = right >= 0 ? boundValue(right) : NAN;
+    if (f >= 0 && fRight > f) estimateB = crossing(xB, f, nodes.x[right], fRight);       // the line through the two
+    else if (f >= 0 && fLeft < 0) estimateB = crossing(nodes.x[left], fLeft, xB, f);
+    if (left >= 0) estimateB = std::max(estimateB, nodes.x[left]);
+    estimateB = std::min(estimateB, xB);
+  }
+  if (xC < 1e300) {
+    around(xC, at, left, right);
+    estimateC = xC;
+    const double f = at >= 0 ? stickValue(at) : NAN, fLeft = left >= 0 ? stickValue(left) : NAN;
+    if (f >= 0 && fLeft < 0) estimateC = crossing(nodes.x[left], fLeft, xC, f);
+  }
+}
 }  // namespace
 
 void nodalTable(Kernel &k, const double *v, const double *Lam, std::vector<double> &table) {
@@ -218,6 +269,7 @@ bool recordStep(Kernel &kernel, const double *pv0, const double *pu0, const doub
   rec[RecordNormalForce] = normalForce; rec[RecordTangentialForce] = tangentialForce;
   for (int z = 0; z < zoneCount; z++) rec[RecordZone0 + z] = zones[z];
   rec[RecordXB] = xB; rec[RecordXC] = xC; rec[RecordTangentialForce2] = tangentialForce2;
+  zoneEstimates(kernel, ov.data(), Lam, xB, xC, rec[RecordXBEstimate], rec[RecordXCEstimate]);
   return std::isfinite(balance);
 }
 

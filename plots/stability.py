@@ -27,7 +27,7 @@ MODE_COLORS = {
     "check": "#386cb0", "timeout": "#999999", "error": "#a65628",
 }
 MODE_TEXT = {
-    "ok": "converged", "slow": "cap: still decreasing", "stalled": "cap: no decrease", "floor": "cap: round-off floor",
+    "ok": "converged", "slow": "cap: still decreasing", "stalled": "no decrease (at the cap, or the fixed point's stall test)", "floor": "cap: round-off floor",
     "stuck": "cap: stuck", "cycling": "cap: cycling", "diverging": "cap: growing", "cap": "cap",
     "nonfinite": "non-finite", "check": "end-of-run check", "timeout": "time limit", "error": "other error",
 }

@@ -491,7 +491,7 @@ bool stepConverged(Kernel &k, double residual, const double *c, int &unresolved)
 // The watchdog: when the safeguard has replaced two Newton iterates in a row, the Newton iterates
 // are kept whatever their merit (at most watchdogLength in a row), until one lowers the merit of
 // the reference (the iterate kept when it started) by the Armijo margin; if none does, or an
-// iterate comes back to the pieces of one kept before with no lower merit (a cycle), the
+// iterate comes back to (nearly) the pieces of one kept before with no lower merit (a cycle), the
 // iterate goes back to the reference and the monotone safeguard goes on, the watchdog not
 // starting again before a Newton iterate passes. A slip front spreading along a curved face
 // raises the merit at every Newton iterate of a step that converges in about ten (the half-disk:
@@ -528,9 +528,20 @@ int safeguardStep(Kernel &k, const double *cFree, const double *previous, const 
   if (!settings.safeguards) { merit = trial; return NewtonKept; }
   if (watch.active) {
     if (accept(settings, watch.merit, trial, residual)) { watch.active = false; watch.replacedInRow = 0; merit = trial; return NewtonKept; }
-    // a cycle: the pieces of an iterate it kept before, and no lower merit than then
-    bool cycle = false;
-    for (size_t e = 0; e < watch.keys.size() && !cycle; e++) cycle = watch.keys[e] == k.law.key && !(trial < watch.merits[e]);
+    // a cycle: no lower merit than an iterate it kept before, with its pieces, or with nearly
+    // its pieces (at most max(2, n/50) slots apart) two or more iterates back (the cylinder on
+    // fine meshes alternated between two sets of pieces a slot or two apart; from one iterate
+    // to the next a few slots moving while the merit rises is Newton's way); a non-finite
+    // iterate ends it too
+    bool cycle = !std::isfinite(trial);
+    const int near = std::max(2, k.law.n / 50);
+    for (size_t e = 0; e < watch.keys.size() && !cycle; e++) {
+      if (trial < watch.merits[e]) continue;
+      const int allowed = e + 1 < watch.keys.size() ? near : 0;
+      int apart = 0;
+      for (int j = 0; j < k.law.n && apart <= allowed; j++) apart += watch.keys[e][j] != k.law.key[j];
+      cycle = apart <= allowed;
+    }
     watch.keys.push_back(k.law.key);
     watch.merits.push_back(trial);
     if (++watch.kept < watchdogLength && !cycle) { merit = trial; return WatchdogKept; }
@@ -575,7 +586,7 @@ int replaceNewtonIterate(Kernel &k, const double *cFree, const double *previous,
   std::copy(previous, previous + nc, m);
   residual = fixedPointIteration(k, cFree, c, m, merit);
   step = 0;
-  if (!(cutMerit < trialMerit) && !(merit < trialMerit)) {
+  if (std::isfinite(trialMerit) && !(cutMerit < trialMerit) && !(merit < trialMerit)) {
     // neither is better than the Newton iterate itself (one at a round-off floor, which cannot
     // lower the merit further): keep it, rather than leave the floor and come back to it
     std::copy(newtonM, newtonM + nc, m);

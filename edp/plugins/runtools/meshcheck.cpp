@@ -17,6 +17,7 @@
 #include <fstream>
 #include <initializer_list>
 #include <set>
+#include <sys/stat.h>
 #include <sstream>
 #include <unistd.h>
 
@@ -597,27 +598,51 @@ long runMeshLacksLabel(std::string *const &path, std::string *const &labels) {
 }
 
 // a .geo is meshed in 3D (gmsh -3) if it defines a Physical Volume, itself or in a file it
-// includes (Include "NAME", relative to its folder: meshes/twistedbox.geo includes hexbody.geo)
+// includes (Include "NAME"; on one line, NAME relative to its folder: meshes/twistedbox.geo
+// includes hexbody.geo), outside // and /* */ comments. Each file is read once (a file that
+// includes itself, or one included many times, costs one reading), regular files only, the
+// first 16 MB of each.
 namespace {
-int geoDimension(const std::string &path, int depth) {
+int geoDimension(const std::string &path, std::set<std::string> &read) {
+  struct ::stat info;
+  if (!read.insert(path).second || ::stat(path.c_str(), &info) != 0 || !S_ISREG(info.st_mode)) return 2;
   std::ifstream f(path);
   std::string line;
   const size_t slash = path.rfind('/');
   const std::string folder = slash == std::string::npos ? "" : path.substr(0, slash + 1);
-  while (std::getline(f, line)) {
-    const std::string code = line.substr(0, line.find("//"));
+  bool inBlock = false;
+  size_t total = 0;
+  while (total < (16u << 20) && std::getline(f, line)) {
+    total += line.size() + 1;
+    std::string code;                                 // the line without its comments
+    for (size_t at = 0; at < line.size();) {
+      if (inBlock) {
+        const size_t end = line.find("*/", at);
+        if (end == std::string::npos) break;
+        inBlock = false; at = end + 2;
+        continue;
+      }
+      const size_t block = line.find("/*", at), rest = line.find("//", at);
+      if (rest != std::string::npos && (block == std::string::npos || rest < block)) { code += line.substr(at, rest - at); break; }
+      if (block == std::string::npos) { code += line.substr(at); break; }
+      code += line.substr(at, block - at);
+      inBlock = true; at = block + 2;
+    }
     if (code.find("Physical Volume") != std::string::npos) return 3;
     const size_t include = code.find("Include");
-    if (include == std::string::npos || depth >= 8) continue;
+    if (include == std::string::npos) continue;
     const size_t open = code.find('"', include), close = open == std::string::npos ? open : code.find('"', open + 1);
     if (close == std::string::npos) continue;
     const std::string name = code.substr(open + 1, close - open - 1);
-    if (geoDimension(!name.empty() && name[0] == '/' ? name : folder + name, depth + 1) == 3) return 3;
+    if (!name.empty() && geoDimension(name[0] == '/' ? name : folder + name, read) == 3) return 3;
   }
   return 2;
 }
 }  // namespace
-long runGeoDimension(std::string *const &path) { return geoDimension(*path, 0); }
+long runGeoDimension(std::string *const &path) {
+  std::set<std::string> read;
+  return geoDimension(*path, read);
+}
 
 // one limit: meshes.idp refuses a scene's structured mesh of that ratio before gmsh makes it
 double runMeshExtentRatio() { return maxExtentRatio; }

@@ -141,6 +141,20 @@ field_numbers() {
       print ""; exit }' "$file"
 }
 
+# scene_agreement NAME OPTIONS...: the run tests/work/NAME (made with OPTIONS when it is not
+# there: a regression case's is used as it is) against the script Newton and the full-system
+# Newton of the same OPTIONS, to 1e-9 (suites 60 and 70)
+scene_agreement() {
+  local name="$1" diag="$work/agree-$1.diag" status=0 variant; shift
+  : > "$diag"
+  [ -f "$work/$name/summary.txt" ] || solve "$@" -out "$work/$name" >> "$diag" 2>&1 || status=1
+  for variant in "-kernel script" "-solver full"; do
+    # shellcheck disable=SC2086
+    solve "$@" $variant -out "$work/$name-${variant##* }" >> "$diag" 2>&1 || status=1
+    "$PYTHON" tests/check_results.py "$work/$name-${variant##* }" --compare "$work/$name" --rtol 1e-9 >> "$diag" 2>&1 || status=1
+  done
+  report $status "scene $name: compiled Newton = script Newton = full-system Newton to 1e-9" "$diag"
+}
 bless() {
   local name="$1" log="$work/$1.log"
   if ! run_case "$name"; then cat "$log" >&2; echo "run_tests.sh: $name fails its physics checks: not blessed" >&2; exit 1; fi

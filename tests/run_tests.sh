@@ -268,7 +268,7 @@ print_job() { # print_job INDEX: its output, its tests numbered on from $count, 
   awk -v base="$count" '/^(not )?ok [0-9]+ - / { match($0, /[0-9]+/); $0 = substr($0, 1, RSTART - 1) (base + substr($0, RSTART, RLENGTH)) substr($0, RSTART + RLENGTH) } { print }' \
     "$jobs_dir/$index.out"
   cat "$jobs_dir/$index.err" >&2
-  if read -r n p f seconds cpu < "$jobs_dir/$index.tally" 2> /dev/null; then
+  if [ -f "$jobs_dir/$index.tally" ] && read -r n p f seconds cpu < "$jobs_dir/$index.tally"; then
     count=$((count + n)); passed=$((passed + p)); failed=$((failed + f))
     [ "${TEST_TIMES:-}" != 1 ] || echo "# time: ${job_names[$index]} $seconds s, processor $cpu s"
   else                                      # the job stopped before its end (exit, set -u)

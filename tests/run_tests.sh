@@ -8,6 +8,8 @@
 #                                 the regression cases' outputs in tests/work)
 # Prints one "ok N - name" / "not ok N - name" line per test, diagnostics on "#" lines,
 # and ends with "N passed, N failed". Exit status 1 if any test failed.
+# Environment: TEST_JOBS=N runs N jobs (regression cases, suites) at a time (default 2; the
+# output does not depend on it); TEST_TIMES=1 prints each job's wall and processor seconds.
 set -u
 # A terminating signal stops the processes the harness started (each solve removes what it
 # created), once the command running in the foreground returns, then the harness itself.
@@ -145,6 +147,20 @@ field_numbers() {
       print ""; exit }' "$file"
 }
 
+# scene_agreement NAME OPTIONS...: the run tests/work/NAME (made with OPTIONS when it is not
+# there: a regression case's is used as it is) against the script Newton and the full-system
+# Newton of the same OPTIONS, to 1e-9 (suites 60 and 70)
+scene_agreement() {
+  local name="$1" diag="$work/agree-$1.diag" status=0 variant; shift
+  : > "$diag"
+  [ -f "$work/$name/summary.txt" ] || solve "$@" -out "$work/$name" >> "$diag" 2>&1 || status=1
+  for variant in "-kernel script" "-solver full"; do
+    # shellcheck disable=SC2086
+    solve "$@" $variant -out "$work/$name-${variant##* }" >> "$diag" 2>&1 || status=1
+    "$PYTHON" tests/check_results.py "$work/$name-${variant##* }" --compare "$work/$name" --rtol 1e-9 >> "$diag" 2>&1 || status=1
+  done
+  report $status "scene $name: compiled Newton = script Newton = full-system Newton to 1e-9" "$diag"
+}
 bless() {
   local name="$1" log="$work/$1.log"
   if ! run_case "$name"; then cat "$log" >&2; echo "run_tests.sh: $name fails its physics checks: not blessed" >&2; exit 1; fi
@@ -176,7 +192,7 @@ coarse_options=(-nx 8 -ny 4 -dt 0.1)
 # expect_failure NAME CODE REGEX OPTIONS...
 expect_failure() {
   local name="$1" code="$2" regex="$3"; shift 3
-  local out="$work/fail-$count" diag="$work/fail.diag"
+  local out="$work/fail-$job-$count" diag="$work/fail-$job.diag"
   rm -rf "$out"
   if printf '%s\n' "$@" | grep -qx -- -out; then solve "$@" > "$diag" 2>&1; else solve -out "$out" "$@" > "$diag" 2>&1; fi
   local rc=$?
@@ -187,11 +203,11 @@ expect_failure() {
   report $status "refused: $name" "$diag"
 }
 coarse=("${coarse_options[@]}")
-# ---- regression cases: physics, then numdiff against the blessed reference
-for name in "${case_names[@]}"; do
-  [ -n "$only" ] && break
-  diag="$work/$name.diag"; : > "$diag"
-  status=0
+# case_tests NAME: the regression case NAME, two tests: it runs and passes its physics checks,
+# then its outputs match its blessed reference (numdiff)
+case_tests() {
+  local name="$1" diag="$work/$1.diag" status=0 f ref excluded
+  : > "$diag"
   if ! run_case "$name"; then status=1; cat "$work/$name.log" > "$diag"; fi
   report $status "$name: runs and passes the physics checks" "$diag"
   : > "$diag"; status=0
@@ -216,15 +232,77 @@ for name in "${case_names[@]}"; do
     fi
   done
   report $status "$name: matches tests/ref/$name" "$diag"
-done
+}
 
-
-# ---- the topic suites, in the order of their names
+# ---- the jobs: each regression case (physics, then numdiff against the blessed reference),
+# then each topic suite, in the order of their names (tests/suites/NN-*.sh, sourced: they use
+# the variables and functions above). The suites start once every case has ended: they read
+# the cases' outputs in tests/work. TEST_JOBS jobs run at a time (default 2, the cores of the
+# machine the suite is measured on; 1: one after the other), each in a subshell of its own,
+# its output held in tests/work/.jobs and printed once the jobs before it have been, its tests
+# numbered on from theirs: the output is the same as one job at a time. A job writes files of
+# its own in tests/work (named by the suite, or by the job: expect_failure's). TEST_TIMES=1:
+# each job's wall time and processor time (its processes', user and system) on a '#' line
+# after its output.
+jobs_dir="$work/.jobs"
+max_jobs="${TEST_JOBS:-2}"
+[[ "$max_jobs" =~ ^[1-9][0-9]*$ ]] || { echo "run_tests.sh: TEST_JOBS must be a whole number >= 1, not '$max_jobs'" >&2; exit 2; }
+job_names=()
+start_job() { # start_job INDEX: job INDEX in the background: INDEX.out, INDEX.err, then INDEX.tally, INDEX.end
+  local index="$1"
+  {
+    (
+      job="${job_names[$index]}" count=0 passed=0 failed=0
+      start="$(date +%s.%N)"
+      # shellcheck disable=SC1090
+      case "$job" in
+        [0-9]*) source "tests/suites/$job.sh" ;;
+        *) case_tests "$job" ;;
+      esac
+      # the wall time and the processor time of the job and its processes (times: the last line)
+      times > "$jobs_dir/$index.times"              # (not in a $(...): a subshell of its own)
+      echo "$count $passed $failed $(awk -v a="$start" -v b="$(date +%s.%N)" '{ for (i = 1; i <= NF; i++) { split($i, ms, /[ms]/); c += 60 * ms[1] + ms[2] } }
+        END { printf "%.1f %.1f", b - a, c }' "$jobs_dir/$index.times")" > "$jobs_dir/$index.tally"
+    ) > "$jobs_dir/$index.out" 2> "$jobs_dir/$index.err" < /dev/null
+    echo "$?" > "$jobs_dir/$index.end"
+  } &
+}
+print_job() { # print_job INDEX: its output, its tests numbered on from $count, counted
+  local index="$1" n p f seconds cpu
+  awk -v base="$count" '/^(not )?ok [0-9]+ - / { match($0, /[0-9]+/); $0 = substr($0, 1, RSTART - 1) (base + substr($0, RSTART, RLENGTH)) substr($0, RSTART + RLENGTH) } { print }' \
+    "$jobs_dir/$index.out"
+  cat "$jobs_dir/$index.err" >&2
+  if [ -f "$jobs_dir/$index.tally" ] && read -r n p f seconds cpu < "$jobs_dir/$index.tally"; then
+    count=$((count + n)); passed=$((passed + p)); failed=$((failed + f))
+    [ "${TEST_TIMES:-}" != 1 ] || echo "# time: ${job_names[$index]} $seconds s, processor $cpu s"
+  else                                      # the job stopped before its end (exit, set -u)
+    count=$((count + $(grep -cE '^(not )?ok [0-9]+ - ' "$jobs_dir/$index.out")))
+    passed=$((passed + $(grep -cE '^ok [0-9]+ - ' "$jobs_dir/$index.out")))
+    failed=$((failed + $(grep -cE '^not ok [0-9]+ - ' "$jobs_dir/$index.out")))
+    echo "job ${job_names[$index]} stopped before its end, exit status $(cat "$jobs_dir/$index.end")" > "$jobs_dir/$index.stopped"
+    report 1 "${job_names[$index]}: ran to its end" "$jobs_dir/$index.stopped"
+  fi
+}
+run_jobs() { # run_jobs NAME...: these jobs, max_jobs at a time, printed in their order
+  local first="${#job_names[@]}" next shown running=0
+  job_names+=("$@")
+  next=$first; shown=$first
+  while [ "$shown" -lt "${#job_names[@]}" ]; do
+    while [ "$running" -lt "$max_jobs" ] && [ "$next" -lt "${#job_names[@]}" ]; do
+      start_job "$next"; next=$((next + 1)); running=$((running + 1))
+    done
+    wait -n; running=$((running - 1))
+    while [ "$shown" -lt "$next" ] && [ -e "$jobs_dir/$shown.end" ]; do print_job "$shown"; shown=$((shown + 1)); done
+  done
+}
+rm -rf "$jobs_dir"; mkdir -p "$jobs_dir"
+[ -n "$only" ] || run_jobs "${case_names[@]}"
+suites=()
 for suite in tests/suites/[0-9]*.sh; do
-  [ -z "$only" ] || [ "$suite" = "tests/suites/$only.sh" ] || continue
-  # shellcheck disable=SC1090
-  source "$suite"
+  suite="$(basename "$suite" .sh)"
+  [ -z "$only" ] || [ "$suite" = "$only" ] && suites+=("$suite")
 done
+run_jobs "${suites[@]}"
 
 echo "$passed passed, $failed failed"
 [ "$failed" = 0 ]

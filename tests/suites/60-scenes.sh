@@ -4,18 +4,7 @@
 # ---- scenes (docs/design.md, "Scenes"): every new law on the three Newtons, a run that
 # repeats itself from its own folder, the mesh cache, oblique and curved boundaries, bad keys
 # compiled = script Newton = full-system Newton to 1e-9, for each scene key: the column cases
-# (small already) and the paper-sized scenes on a coarse mesh
-scene_agreement() { # scene_agreement NAME OPTIONS...: compiled (tests/work/NAME) against the others
-  local name="$1" diag="$work/agree-$1.diag" status=0 variant; shift
-  : > "$diag"
-  [ -f "$work/$name/summary.txt" ] || solve "$@" -out "$work/$name" >> "$diag" 2>&1 || status=1
-  for variant in "-kernel script" "-solver full"; do
-    # shellcheck disable=SC2086
-    solve "$@" $variant -out "$work/$name-${variant##* }" >> "$diag" 2>&1 || status=1
-    "$PYTHON" tests/check_results.py "$work/$name-${variant##* }" --compare "$work/$name" --rtol 1e-9 >> "$diag" 2>&1 || status=1
-  done
-  report $status "scene $name: compiled Newton = script Newton = full-system Newton to 1e-9" "$diag"
-}
+# (small already) and the paper-sized scenes on a coarse mesh (scene_agreement: tests/run_tests.sh)
 # shellcheck disable=SC2086
 for name in column-power column-table column-profile-bound column-history-pulled column-body; do scene_agreement "$name" ${case_options[$name]}; done
 scene_agreement unloading-coarse -scene unloading -nx 16 -ny 8 -dt 0.05

@@ -60,7 +60,7 @@ double runEnvironmentSeconds(string *const &name) {
 string *newString(Stack stack, const std::string &text) { return Add2StackOfPtr2Free(stack, new string(text)); }
 // the versions of what makes a run (summary.txt, the outputs' headers)
 string *runSuiteVersion(Stack stack, string *const &repository) { return newString(stack, suiteVersion(*repository)); }
-string *runGmshVersion(Stack stack, const long &) { return newString(stack, gmshVersion()); }
+string *runGmshVersion(Stack stack, string *const &cacheFolder) { return newString(stack, gmshVersion(*cacheFolder)); }
 // state.cpp: the state file of -restart
 string *runStateKey(Stack stack, string *const &path, string *const &key) { return newString(stack, stateKey(*path, *key)); }
 long runStateValues(string *const &path, string *const &quantity, KN<double> *const &out) {
@@ -121,7 +121,7 @@ static void Load_Init() {
   add("runFreeFem", runFreeFem);                   // (program, arguments one a line, log): a pilot run's exit status
   add("runRestartWith", runRestartWith);           // (argument): this program again with it; returns 1 only if that fails
   Global.Add("runSuiteVersion", "(", new OneOperator1s_<string *, string *>(runSuiteVersion));   // (repository): git describe --always --dirty, or its VERSION
-  Global.Add("runGmshVersion", "(", new OneOperator1s_<string *, long>(runGmshVersion));      // (0): gmsh --version
+  Global.Add("runGmshVersion", "(", new OneOperator1s_<string *, string *>(runGmshVersion));  // (cache folder): gmsh --version
   // state.cpp
   Global.Add("runStateKey", "(", new OneOperator2s_<string *, string *, string *>(runStateKey));   // (path, key): a "# key value" header line's value, "" if none
   Global.Add("runStateValues", "(", new OneOperator3_<long, string *, string *, KN<double> *>(runStateValues));   // (path, quantity, out): its values; exit 3 on a malformed file

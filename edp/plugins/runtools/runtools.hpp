@@ -54,7 +54,7 @@ long long posixChecksum(const std::string &path);
 // ---------------------------------------------------------------- spawn.cpp
 void checkCommandLine();
 std::string suiteVersion(const std::string &repository);   // git describe, or VERSION, or unknown
-std::string gmshVersion();                                  // gmsh --version
+std::string gmshVersion(const std::string &cacheFolder);    // gmsh --version (kept in cacheFolder)
 // ---------------------------------------------------------------- state.cpp
 std::string stateKey(const std::string &path, const std::string &key);
 std::vector<double> stateValues(const std::string &path, const std::string &quantity);

@@ -3,6 +3,7 @@
 // -Ddimension=3. Also the guard against command-line arguments FreeFem++ itself would act on,
 // which the plugin runs as it is loaded (docs/design.md, "Command line").
 #include "runtools.hpp"
+#include <sys/stat.h>
 #include <algorithm>
 #include <cerrno>
 #include <csignal>
@@ -122,8 +123,42 @@ std::string suiteVersion(const std::string &repository) {
   return versionWord(release) + (checkout ? "+commit-unknown" : "");
 }
 
-// gmsh's version, as `gmsh --version` prints it
-std::string gmshVersion() { return versionWord(firstLineOf({"gmsh", "--version"})); }
+// gmsh's version, as `gmsh --version` prints it. Starting gmsh costs about 0.07 s, a tenth of
+// a small run, and every run records the version: it is kept in cacheFolder/gmsh-version.txt
+// with the identity of the gmsh it came from (its path on PATH, size, modification time and
+// inode), and asked again when that changes; written whole (a temporary file renamed), and
+// not at all where the folder cannot be written. (A gmsh whose shared library alone is
+// replaced keeps the version cached: remove meshes/build/gmsh-version.txt, or the folder.)
+std::string gmshVersion(const std::string &cacheFolder) {
+  std::string binary, key;
+  const char *path = std::getenv("PATH");
+  std::stringstream folders(path ? path : "");
+  std::string folder;
+  while (binary.empty() && std::getline(folders, folder, ':')) {
+    const std::string candidate = (folder.empty() ? "." : folder) + "/gmsh";
+    struct ::stat info;
+    if (::stat(candidate.c_str(), &info) == 0 && S_ISREG(info.st_mode) && access(candidate.c_str(), X_OK) == 0) {
+      binary = candidate;
+      key = candidate + " " + std::to_string((long long)info.st_size) + " " + std::to_string((long long)info.st_mtim.tv_sec) + "."
+            + std::to_string((long long)info.st_mtim.tv_nsec) + " " + std::to_string((unsigned long long)info.st_ino);
+    }
+  }
+  const std::string cache = cacheFolder + "/gmsh-version.txt";
+  if (!binary.empty() && !cacheFolder.empty()) {
+    std::ifstream in(cache);
+    std::string cachedKey, cachedVersion;
+    if (std::getline(in, cachedKey) && std::getline(in, cachedVersion) && cachedKey == key && !cachedVersion.empty()) return cachedVersion;
+  }
+  const std::string version = versionWord(firstLineOf({"gmsh", "--version"}));
+  if (!binary.empty() && !cacheFolder.empty() && version != "unknown" && (mkdir(cacheFolder.c_str(), 0777) == 0 || errno == EEXIST)) {
+    const std::string temporary = cache + "." + std::to_string(getpid());
+    std::ofstream out(temporary);
+    out << key << "\n" << version << "\n";
+    out.close();
+    if (!out || std::rename(temporary.c_str(), cache.c_str()) != 0) std::remove(temporary.c_str());
+  }
+  return version;
+}
 
 
 // An option value of the user's that reads like a macro or an option of FreeFem++ (a file

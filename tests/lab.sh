@@ -208,16 +208,19 @@ said "  iteration 2: residual 5.218e-04; changed: none"
 said "  iteration 3: residual 1.199e-07; changed: none"
 said_small "  iteration 4: residual " "; changed: none" 1e-12
 # 4. the exercises
-# factorization counts are decided by round-off: "a few" for the paper's law, "within a few
-# of the iterations" for the power law (at most 5 less)
+# factorization counts are decided by round-off: "a few" for the paper's law; the power law
+# changes its Newton matrix at every iteration, so factorizations and low-rank corrections
+# add up to at least its iterations (which of the two a change gets is round-off's: 67 and 2
+# at 1e-12 here, 56 and 13 with Prescott BLAS kernels), most of them factorizations
 for tol in 1e-6 1e-10 1e-12; do
   keys "ex1/linear/tol-$tol" iterations_total=38
   n="$(key "ex1/linear/tol-$tol" newton_factorizations)"; [ -n "$n" ] && [ "$n" -ge 1 ] && [ "$n" -le 5 ] || problem "a few factorizations (1 to 5) for \$LAB/ex1/linear/tol-$tol (it has '$n')"
 done
 for pair in 1e-6=53 1e-10=66 1e-12=69; do
   run="ex1/power/tol-${pair%=*}"; keys "$run" iterations_total="${pair#*=}"
-  n="$(key "$run" newton_factorizations)"; [ -n "$n" ] && [ "$n" -ge $(( ${pair#*=} - 5 )) ] && [ "$n" -le "${pair#*=}" ] \
-    || problem "newton_factorizations within a few of the ${pair#*=} iterations for \$LAB/$run (it has '$n')"
+  n="$(key "$run" newton_factorizations)"; c="$(key "$run" newton_low_rank_corrections)"
+  [ -n "$n" ] && [ -n "$c" ] && [ $((n + c)) -ge "${pair#*=}" ] && [ $((2 * n)) -gt "${pair#*=}" ] \
+    || problem "newton_factorizations + newton_low_rank_corrections at least the ${pair#*=} iterations, most of them factorizations, for \$LAB/$run (it has '$n' and '$c')"
 done
 zones ex2/load-2.5 1 17 15 0 0
 zones ex2/load-10 1 7 0 14 11

@@ -518,6 +518,7 @@ int safeguardStep(Kernel &k, const double *cFree, const double *previous, const 
   const SolverSettings &settings = k.settings;
   const int nc = factor.nc;
   const double before = merit;
+  newton.keptOverReplacements = false;
   std::copy(newtonM, newtonM + nc, m);
   if (DwNewtonM) for (int j = 0; j < nc; j++) c[j] = cFree[j] - DwNewtonM[j];   // Dw m known already
   else velocities(k, cFree, m, c);
@@ -593,6 +594,7 @@ int replaceNewtonIterate(Kernel &k, const double *cFree, const double *previous,
     velocities(k, cFree, m, c);
     residual = referenceEvaluate(k, c, m, merit);
     step = 1;
+    newton.keptOverReplacements = true;
     return NewtonKept;
   }
   if (!(cutMerit < merit)) { newton.fallbacks++; return FixedPointTaken; }
@@ -661,6 +663,8 @@ void logIteration(Kernel &k, int it, double residual, int outcome, double step) 
   if (outcome == FixedPointTaken) line += " (the Newton iterate did not lower the merit: one fixed-point iteration instead)";
   if (outcome == NewtonShortened)
     line += " (the Newton iterate did not lower the merit: the step " + std::to_string((int)std::lround(1 / step)) + " times shorter)";
+  if (outcome == NewtonKept && k.newton.keptOverReplacements)
+    line += " (the Newton iterate did not lower the merit, but neither replacement did better: kept)";
   if (outcome == WatchdogKept) line += " (watchdog: the Newton iterate kept although the merit rose)";
   if (outcome == WatchdogReturned) line += " (watchdog: no kept iterate lowered the merit: back to where it started)";
   line += first ? "; slots:" : "; changed:";

@@ -210,6 +210,8 @@ struct NewtonState {
   long watchdogs = 0;                  // watchdog starts (safeguardStep): Newton iterates kept although the merit rose
   long watchdogReturns = 0;            // ... that ended back at their reference
   std::vector<int> lastKeys;           // the pieces at the last piecesRepeat() of the step
+  bool keptOverReplacements = false;   // the last safeguardStep kept a Newton iterate that did not
+                                       // lower the merit, neither replacement doing better (the log says so)
   // the watchdog of the step under way (safeguardStep; reset by newtonStart)
   struct Watchdog {
     int replacedInRow = 0;             // Newton iterates the safeguard replaced in a row

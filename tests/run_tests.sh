@@ -25,6 +25,10 @@ stop_harness() {
 trap 'stop_harness 143' TERM; trap 'stop_harness 130' INT; trap 'stop_harness 129' HUP
 tests="$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)"
 root="$(dirname "$tests")"
+# this checkout's solves on a process's command line (its edp/solve.edp by absolute path, as
+# run.sh starts it), as an extended regular expression: the tests that look for processes
+# left running must not see another checkout's
+root_solve_pattern="(^| )$(printf '%s' "$root" | sed 's/[][\.*^$+?(){}|]/\\&/g')/edp/solve\.edp "
 cd "$root" || exit 1
 PYTHON="${PYTHON:-/usr/bin/python3}"
 FREEFEM=(FreeFem++-nw -ns -v 0)
@@ -184,6 +188,9 @@ fi
 only=""
 if [ "${1:-}" = "--suite" ] && [ $# = 2 ] && [ -f "tests/suites/$2.sh" ]; then only="$2"; shift 2; fi
 [ $# -eq 0 ] || { echo "usage: run_tests.sh [--bless CASE | --suite NAME]" >&2; exit 2; }
+max_jobs="${TEST_JOBS:-2}"                             # (checked before anything is removed)
+[[ "$max_jobs" =~ ^[0-9]{1,3}$ ]] && max_jobs=$((10#$max_jobs)) && [ "$max_jobs" -ge 1 ] && [ "$max_jobs" -le 64 ] \
+  || { echo "run_tests.sh: TEST_JOBS must be a whole number from 1 to 64, not '$max_jobs'" >&2; exit 2; }
 [ -n "$only" ] || find "$work" -mindepth 1 -delete      # the harness's own folder: start clean
 
 echo "# FreeFem++: $(command -v FreeFem++-nw), gmsh $(gmsh --version 2>&1 | head -1), numdiff $(numdiff --version 2>/dev/null | head -1 | awk '{print $2}')"
@@ -245,8 +252,6 @@ case_tests() {
 # each job's wall time and processor time (its processes', user and system) on a '#' line
 # after its output.
 jobs_dir="$work/.jobs"
-max_jobs="${TEST_JOBS:-2}"
-[[ "$max_jobs" =~ ^[1-9][0-9]*$ ]] || { echo "run_tests.sh: TEST_JOBS must be a whole number >= 1, not '$max_jobs'" >&2; exit 2; }
 job_names=()
 start_job() { # start_job INDEX: job INDEX in the background: INDEX.out, INDEX.err, then INDEX.tally, INDEX.end
   local index="$1"
@@ -284,14 +289,22 @@ print_job() { # print_job INDEX: its output, its tests numbered on from $count, 
   fi
 }
 run_jobs() { # run_jobs NAME...: these jobs, max_jobs at a time, printed in their order
-  local first="${#job_names[@]}" next shown running=0
+  local first="${#job_names[@]}" next shown running=0 waited i
   job_names+=("$@")
   next=$first; shown=$first
   while [ "$shown" -lt "${#job_names[@]}" ]; do
     while [ "$running" -lt "$max_jobs" ] && [ "$next" -lt "${#job_names[@]}" ]; do
       start_job "$next"; next=$((next + 1)); running=$((running + 1))
     done
-    wait -n; running=$((running - 1))
+    # a job whose wrapper was killed never writes INDEX.end: once no job is left to wait for
+    # (wait -n: 127), every job started without one counts as stopped
+    waited=0; wait -n || waited=$?
+    if [ "$waited" = 127 ]; then
+      for ((i = shown; i < next; i++)); do [ -e "$jobs_dir/$i.end" ] || echo "killed" > "$jobs_dir/$i.end"; done
+      running=0
+    else
+      running=$((running - 1))
+    fi
     while [ "$shown" -lt "$next" ] && [ -e "$jobs_dir/$shown.end" ]; do print_job "$shown"; shown=$((shown + 1)); done
   done
 }

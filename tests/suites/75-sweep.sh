@@ -154,7 +154,7 @@ rc=0; wait "$first" || rc=$?
 sweep_tree "$work/sweep-one" | cmp -s - "$work/sweep-before" || { echo "the stopped sweep changed $work/sweep-one" >> "$diag"; status=1; }
 [ -z "$(sweep_left "$work/sweep-one")" ] || { echo "the stopped sweep left $(sweep_left "$work/sweep-one")" >> "$diag"; status=1; }
 # (this checkout's runs only: another checkout's tests may run the same sweep meanwhile)
-pgrep -fa "$root/edp/solve\.edp .*sweep-one\.partial" >> "$diag" && { echo "runs of the stopped sweep still run" >> "$diag"; status=1; }
+pgrep -fa "${root_solve_pattern}.*sweep-one\.partial" >> "$diag" && { echo "runs of the stopped sweep still run" >> "$diag"; status=1; }
 report $status "sweep folder: a folder of the user's or a run's, or a sweep holding a file of the user's, is refused untouched (exit 7); a finished sweep is replaced whole; a second sweep or a run on it meanwhile exits 7 naming the process; a signal leaves it as it was" "$diag"
 rm -rf "$work"/sweep-*
 # ---- end sweep

@@ -186,8 +186,8 @@ sleep 1
 kill -TERM "$pid" 2>/dev/null; wait "$pid" 2>/dev/null && status=1
 sleep 0.2
 # (this checkout's solve only: another checkout's tests may run the same test meanwhile)
-pgrep -f -- "$root/edp/solve\.edp .*-out $work/signal" > /dev/null \
-  && { echo "the solve still runs after run.sh was killed" >> "$diag"; pkill -f -- "$root/edp/solve\.edp .*-out $work/signal"; status=1; }
+pgrep -f -- "${root_solve_pattern}.*-out $work/signal( |$)" > /dev/null \
+  && { echo "the solve still runs after run.sh was killed" >> "$diag"; pkill -f -- "${root_solve_pattern}.*-out $work/signal( |$)"; status=1; }
 [ -e "$work/signal" ] || compgen -G "$work/signal.partial*" > /dev/null && { echo "left: $(ls -d "$work"/signal "$work"/signal.partial* 2>/dev/null)" >> "$diag"; status=1; }
 report $status "signals: killing ./run.sh solve stops the solve, which removes what it created" "$diag"
 

@@ -73,10 +73,11 @@ void zoneEstimates(const Kernel &k, const double *ov, const double *Lam, double 
     estimateB = xB;
     const double f = at >= 0 ? boundValue(at) : NAN, fLeft = left >= 0 ? boundValue(left) : NAN;
     const double fRight = right >= 0 ? boundValue(right) : NAN;
-    if (f >= 0 && fRight > f) estimateB = crossing(xB, f, nodes.x[right], fRight);       // the line through the two
-    else if (f >= 0 && fLeft < 0) estimateB = crossing(nodes.x[left], fLeft, xB, f);
-    if (left >= 0) estimateB = std::max(estimateB, nodes.x[left]);
-    estimateB = std::min(estimateB, xB);
+    if (left >= 0 && f >= 0 && fLeft < 0) {          // a neighbour off the bound: the crossing is between them
+      estimateB = fRight > f ? crossing(xB, f, nodes.x[right], fRight)    // the line through the two at the bound
+                             : crossing(nodes.x[left], fLeft, xB, f);
+      estimateB = std::min(std::max(estimateB, nodes.x[left]), xB);
+    }
   }
   if (xC < 1e300) {
     around(xC, at, left, right);

@@ -125,10 +125,12 @@ std::string suiteVersion(const std::string &repository) {
 
 // gmsh's version, as `gmsh --version` prints it. Starting gmsh costs about 0.07 s, a tenth of
 // a small run, and every run records the version: it is kept in cacheFolder/gmsh-version.txt
-// with the identity of the gmsh it came from (its path on PATH, size, modification time and
-// inode), and asked again when that changes; written whole (a temporary file renamed), and
-// not at all where the folder cannot be written. (A gmsh whose shared library alone is
-// replaced keeps the version cached: remove meshes/build/gmsh-version.txt, or the folder.)
+// with the identity of the gmsh it came from (its path on PATH, the file that resolves to, its
+// size, modification time and inode), and asked again when that changes; written whole (a
+// temporary file renamed), not at all where the folder cannot be written, and read only as a
+// small regular file whose version is one word. Not kept for a gmsh that is a script or
+// resolves to another program (a launcher). (A gmsh whose shared library alone is replaced
+// keeps the version cached: remove meshes/build/gmsh-version.txt, or the folder.)
 std::string gmshVersion(const std::string &cacheFolder) {
   std::string binary, key;
   const char *path = std::getenv("PATH");
@@ -136,21 +138,34 @@ std::string gmshVersion(const std::string &cacheFolder) {
   std::string folder;
   while (binary.empty() && std::getline(folders, folder, ':')) {
     const std::string candidate = (folder.empty() ? "." : folder) + "/gmsh";
+    if (access(candidate.c_str(), X_OK) != 0) continue;
+    binary = candidate;                               // the gmsh a run starts
+    // kept only for a program of its own: the file it resolves to is named gmsh... and is an
+    // ELF binary (a script or a launcher such as snap may start another gmsh each time)
+    char *resolved = realpath(candidate.c_str(), nullptr);
+    const std::string target = resolved ? resolved : "";
+    std::free(resolved);
     struct ::stat info;
-    if (::stat(candidate.c_str(), &info) == 0 && S_ISREG(info.st_mode) && access(candidate.c_str(), X_OK) == 0) {
-      binary = candidate;
-      key = candidate + " " + std::to_string((long long)info.st_size) + " " + std::to_string((long long)info.st_mtim.tv_sec) + "."
-            + std::to_string((long long)info.st_mtim.tv_nsec) + " " + std::to_string((unsigned long long)info.st_ino);
-    }
+    char magic[4] = {0, 0, 0, 0};
+    std::ifstream head(target, std::ios::binary);
+    head.read(magic, 4);
+    const size_t slash = target.rfind('/');
+    if (!target.empty() && ::stat(target.c_str(), &info) == 0 && S_ISREG(info.st_mode) && target.compare(slash + 1, 4, "gmsh") == 0
+        && magic[0] == 0x7f && magic[1] == 'E' && magic[2] == 'L' && magic[3] == 'F')
+      key = candidate + " " + target + " " + std::to_string((long long)info.st_size) + " " + std::to_string((long long)info.st_mtim.tv_sec)
+            + "." + std::to_string((long long)info.st_mtim.tv_nsec) + " " + std::to_string((unsigned long long)info.st_ino);
   }
   const std::string cache = cacheFolder + "/gmsh-version.txt";
-  if (!binary.empty() && !cacheFolder.empty()) {
+  struct ::stat cached;
+  if (!key.empty() && !cacheFolder.empty() && ::stat(cache.c_str(), &cached) == 0 && S_ISREG(cached.st_mode) && cached.st_size <= 4096) {
     std::ifstream in(cache);
     std::string cachedKey, cachedVersion;
-    if (std::getline(in, cachedKey) && std::getline(in, cachedVersion) && cachedKey == key && !cachedVersion.empty()) return cachedVersion;
+    if (std::getline(in, cachedKey) && std::getline(in, cachedVersion) && cachedKey == key && !cachedVersion.empty()
+        && versionWord(cachedVersion) == cachedVersion && cachedVersion != "unknown")
+      return cachedVersion;
   }
   const std::string version = versionWord(firstLineOf({"gmsh", "--version"}));
-  if (!binary.empty() && !cacheFolder.empty() && version != "unknown" && (mkdir(cacheFolder.c_str(), 0777) == 0 || errno == EEXIST)) {
+  if (!key.empty() && !cacheFolder.empty() && version != "unknown" && (mkdir(cacheFolder.c_str(), 0777) == 0 || errno == EEXIST)) {
     const std::string temporary = cache + "." + std::to_string(getpid());
     std::ofstream out(temporary);
     out << key << "\n" << version << "\n";

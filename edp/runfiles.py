@@ -385,11 +385,6 @@ def run_dimension(folder):
     return int(summary["dimension"])
 
 
-# The columns of contact_history.txt that are nan where there is none: the zone boundaries
-# x_B, x_C (node positions) and their estimates between the nodes (nan in 3D too)
-ZONE_BOUNDARY_COLUMNS = ("x_B", "x_C", "x_B_estimate", "x_C_estimate")
-
-
 def zone_names(names):
     """The zones among `names` (a table's columns, the keys of summary.txt): those named
     zone_*, in their order."""

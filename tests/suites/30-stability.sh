@@ -50,16 +50,12 @@ report $status "the defaults converge on the 16 corners of the paper box (mu 0, 
 # ---- hard bodies (docs/stability.md, "Hard bodies"). The half disk (edp/scenes/halfdisk.scene),
 # held only by the contact and its top's x, at Newton's defaults with mu 0.4 (the scene) and 1
 # (T = 0.3): exit 0, at most 30 iterations in any step (the target; they take about 9 here),
-# the physics checks, and the same v at T as plain Newton (-safeguard off, another path
-# through the pieces) to 1e-9 of its L2 norm. The twisted and the sloped 3D block
-# (edp/scenes/twisted3d.scene, sloped3d.scene) at mu 0.7 (their scenes) and 1: exit 0 at the
-# defaults, the physics checks, and the same v at T as Newton at r = 10 (another path; plain
-# Newton fails on the twisted block at step 1) to 1e-9. The literal penalty
+# the physics checks, and the same outputs as plain Newton (-safeguard off, another path
+# through the pieces) to 1e-9 (check_results.py --compare). The twisted and the sloped 3D
+# block (edp/scenes/twisted3d.scene, sloped3d.scene) at mu 0.7 (their scenes) and 1: exit 0 at
+# the defaults, the physics checks, and the same outputs as Newton at r = 10 (another path;
+# plain Newton fails on the twisted block at step 1) to 1e-9. The literal penalty
 # row without safeguards at eps = 1e-10: converges, and equals the compliant row to 1e-9.
-agree_to() { # agree_to A REF TOL: compare.edp's error_L2 <= TOL norm_L2
-  "${FREEFEM[@]}" edp/compare.edp -a "$1" -ref "$2" 2> /dev/null \
-    | awk -v tol="$3" '$1 == "error_L2" { found = 1; ok = $2 <= tol * $4; print "error_L2 " $2 " norm_L2 " $4 } END { exit !(found && ok) }'
-}
 hard() { # hard NAME OPTIONS...: a run at the defaults that passes the physics checks
   local name="$1"; shift
   rm -rf "$work/hard-$name"
@@ -72,20 +68,20 @@ for mu in 0.4 1; do
   most="$(awk '$1 == "iterations_max" { print $2 }' "$work/hard-halfdisk-$mu/summary.txt")"
   [ -n "$most" ] && [ "$most" -le 30 ] || { echo "halfdisk -mu $mu: $most iterations in a step (at most 30 expected)" >> "$diag"; status=1; }
   hard "halfdisk-$mu-plain" -scene halfdisk -mu "$mu" -T 0.3 -safeguard off \
-    && { agree_to "$work/hard-halfdisk-$mu" "$work/hard-halfdisk-$mu-plain" 1e-9 >> "$diag" || { echo "halfdisk -mu $mu: not plain Newton's v to 1e-9" >> "$diag"; status=1; }; }
+    && { "$PYTHON" tests/check_results.py "$work/hard-halfdisk-$mu-plain" --compare "$work/hard-halfdisk-$mu" --rtol 1e-9 >> "$diag" 2>&1 || { echo "halfdisk -mu $mu: not plain Newton's outputs to 1e-9" >> "$diag"; status=1; }; }
 done
-report $status "hard bodies, 2D: the half disk at Newton's defaults (mu 0.4, 1): at most 30 iterations a step, physics checks, plain Newton's v to 1e-9" "$diag"
+report $status "hard bodies, 2D: the half disk at Newton's defaults (mu 0.4, 1): at most 30 iterations a step, physics checks, plain Newton's outputs to 1e-9" "$diag"
 diag="$work/hard-3d.diag"; : > "$diag"; status=0
 for body in twisted3d sloped3d; do
   for mu in 0.7 1; do
     hard "$body-$mu" -scene "$body" -mu "$mu" || continue
     hard "$body-$mu-r10" -scene "$body" -mu "$mu" -r 10 \
-      && { agree_to "$work/hard-$body-$mu" "$work/hard-$body-$mu-r10" 1e-9 >> "$diag" || { echo "$body -mu $mu: not the v of -r 10 to 1e-9" >> "$diag"; status=1; }; }
+      && { "$PYTHON" tests/check_results.py "$work/hard-$body-$mu-r10" --compare "$work/hard-$body-$mu" --rtol 1e-9 >> "$diag" 2>&1 || { echo "$body -mu $mu: not the outputs of -r 10 to 1e-9" >> "$diag"; status=1; }; }
   done
 done
-report $status "hard bodies, 3D: the twisted and the sloped block at Newton's defaults (mu 0.7, 1): physics checks, the v of -r 10 to 1e-9" "$diag"
+report $status "hard bodies, 3D: the twisted and the sloped block at Newton's defaults (mu 0.7, 1): physics checks, the outputs of -r 10 to 1e-9" "$diag"
 diag="$work/hard-literal.diag"; : > "$diag"; status=0
 hard literal -problem penalty -eps 1e-10 -penaltyform literal -safeguard off -nx 33 -ny 16 \
   && hard compliant -problem penalty -eps 1e-10 -nx 33 -ny 16 \
-  && { agree_to "$work/hard-literal" "$work/hard-compliant" 1e-9 >> "$diag" || { echo "the literal row is not the compliant row's v to 1e-9" >> "$diag"; status=1; }; }
+  && { "$PYTHON" tests/check_results.py "$work/hard-compliant" --compare "$work/hard-literal" --rtol 1e-9 >> "$diag" 2>&1 || { echo "the literal row is not the compliant row's v to 1e-9" >> "$diag"; status=1; }; }
 report $status "the literal penalty row without safeguards at eps = 1e-10 converges (Newton's correction form) and equals the compliant row to 1e-9" "$diag"

@@ -545,7 +545,7 @@ int safeguardStep(Kernel &k, const double *cFree, const double *previous, const 
     }
     watch.keys.push_back(k.law.key);
     watch.merits.push_back(trial);
-    if (++watch.kept < watchdogLength && !cycle) { merit = trial; return WatchdogKept; }
+    if ((int)watch.keys.size() < watchdogLength && !cycle) { merit = trial; return WatchdogKept; }
     watch.active = false; watch.spent = true;           // none lowered the reference's merit: back to it
     std::copy(watch.m.begin(), watch.m.end(), m);
     std::copy(watch.c.begin(), watch.c.end(), c);
@@ -558,7 +558,7 @@ int safeguardStep(Kernel &k, const double *cFree, const double *previous, const 
   const int outcome = replaceNewtonIterate(k, cFree, previous, newtonM, before, trial, c, m, merit, residual, step);
   if (outcome == NewtonKept) return outcome;
   if (++watch.replacedInRow >= 2 && !watch.spent) {
-    watch.active = true; watch.kept = 0; watch.merit = merit;
+    watch.active = true; watch.merit = merit;
     watch.keys.clear(); watch.merits.clear();
     watch.c.assign(c, c + nc); watch.m.assign(m, m + nc);
     newton.watchdogs++;

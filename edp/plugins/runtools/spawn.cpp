@@ -165,7 +165,7 @@ std::string gmshVersion(const std::string &cacheFolder) {
       return cachedVersion;
   }
   const std::string version = versionWord(firstLineOf({"gmsh", "--version"}));
-  if (!key.empty() && !cacheFolder.empty() && version != "unknown" && (mkdir(cacheFolder.c_str(), 0777) == 0 || errno == EEXIST)) {
+  if (!key.empty() && !cacheFolder.empty() && version != "unknown" && makeFolders(cacheFolder)) {
     const std::string temporary = cache + "." + std::to_string(getpid());
     std::ofstream out(temporary);
     out << key << "\n" << version << "\n";

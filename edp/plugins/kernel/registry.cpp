@@ -1,7 +1,7 @@
 // registry.cpp: the kernel instances, the one mutable object at file scope. The FreeFEM
 // functions act on the current instance; a script may make another (contactKernelNew) and
-// switch between them (contactKernelUse). No run of the suite uses more than one (the pilot
-// runs of -adapt are processes of their own): tests/kernel_check.edp makes two and checks that
+// switch between them (contactKernelUse). A run uses one; each pilot run of -adapt makes its
+// own and deletes it (edp/lib/adapt.idp); tests/kernel_check.edp makes two and checks that
 // they share nothing, the evidence that the kernel's whole state is its Kernel value.
 #include <memory>
 #include "kernel.hpp"

@@ -41,7 +41,7 @@ std::string shortestText(double x) {
 }
 string *runShortestText(Stack stack, const double &x) { return Add2StackOfPtr2Free(stack, new string(shortestText(x))); }
 
-// FreeFEM has no wall clock (its clock() is CPU time): progress lines and the pilot runs' timing
+// FreeFEM has no wall clock (its clock() is CPU time): progress lines and the timings of a run
 double runWallClock() {
   return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
 }
@@ -118,7 +118,6 @@ static void Load_Init() {
   add("runMakeFolders", runMakeFolders);           // (path): mkdir -p; 0, or 1
   // spawn.cpp
   add("runGmsh", runGmsh);                         // (geo, out, "NAME VALUE ..."): gmsh's exit status, 127 if it cannot start
-  add("runFreeFem", runFreeFem);                   // (program, arguments one a line, log): a pilot run's exit status
   add("runRestartWith", runRestartWith);           // (argument): this program again with it; returns 1 only if that fails
   Global.Add("runSuiteVersion", "(", new OneOperator1s_<string *, string *>(runSuiteVersion));   // (repository): git describe --always --dirty, or its VERSION
   Global.Add("runGmshVersion", "(", new OneOperator1s_<string *, string *>(runGmshVersion));  // (cache folder): gmsh --version

@@ -157,7 +157,7 @@ long runOnlyCarriageReturns(std::string *const &path) {
   while (f.get(ch)) { if (ch == '\n') return 0; cr = cr || ch == '\r'; }
   return cr ? 1 : 0;
 }
-// the line feeds of a file, -1 if it cannot be read (a pilot run's log)
+// the line feeds of a file, -1 if it cannot be read (a written file's check)
 long runFileLines(std::string *const &path) {
   int fd = open(path->c_str(), O_RDONLY);
   if (fd < 0) return -1;

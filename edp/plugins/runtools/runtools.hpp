@@ -8,7 +8,7 @@
 //   messages.cpp    errors, notes, the signal and exit handlers
 //   runfolder.cpp   the run folder as one transaction, and what a failure removes
 //   files.cpp       file operations for the scripts and the run folder
-//   spawn.cpp       gmsh, the pilot runs, the 3D restart; the command-line guard
+//   spawn.cpp       gmsh, the 3D restart; the command-line guard
 //   meshcheck.cpp   the MSH 2.2 checker, 2D and 3D
 //   samedomain.cpp  whether two runs' meshes cover one domain (compare.edp)
 //   bindings.cpp    what FreeFEM loads: the handlers, the guard, the functions of the scripts
@@ -39,7 +39,7 @@ void onExit();
 // ---------------------------------------------------------------- runfolder.cpp
 // What the run created and a failure removes. The signal handler reads it, so it is kept in
 // fixed buffers and sig_atomic_t flags, and removed with system calls only.
-extern volatile pid_t runningChild;                // a gmsh or pilot run to stop
+extern volatile pid_t runningChild;                // a gmsh to stop
 void rememberTemporary(const std::string &path);   // a file this run writes outside OUT
 void forgetTemporary(const std::string &path);
 bool cleanUp();                                    // true if it removed the unfinished output folder
@@ -85,7 +85,6 @@ long runRename(std::string *const &from, std::string *const &to);
 long runMakeFolders(std::string *const &path);
 // spawn.cpp
 long runGmsh(std::string *const &geo, std::string *const &out, std::string *const &numbers);
-long runFreeFem(std::string *const &program, std::string *const &arguments, std::string *const &log);
 long runRestartWith(std::string *const &extra);
 // meshcheck.cpp
 long runCheckMesh(std::string *const &in, std::string *const &out, std::string *const &required,

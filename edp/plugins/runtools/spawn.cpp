@@ -1,7 +1,7 @@
 // spawn.cpp: other programs, without a shell (an argument vector: a value of the user's is never
-// read as a command): gmsh, the pilot runs of -adapt, the restart of a 3D run with
-// -Ddimension=3. Also the guard against command-line arguments FreeFem++ itself would act on,
-// which the plugin runs as it is loaded (docs/design.md, "Command line").
+// read as a command): gmsh, the restart of a 3D run with -Ddimension=3. Also the guard
+// against command-line arguments FreeFem++ itself would act on, which the plugin runs as it
+// is loaded (docs/design.md, "Command line").
 #include "runtools.hpp"
 #include <sys/stat.h>
 #include <algorithm>
@@ -216,16 +216,6 @@ long runGmsh(std::string *const &geo, std::string *const &out, std::string *cons
   args.push_back(*geo); args.push_back("-o"); args.push_back(*out);
   rememberTemporary(*out);
   return spawnAndWait("gmsh", args);
-}
-
-// a pilot run of -adapt: this FreeFEM program as it was started (FreeFem++-nw and FreeFem++
-// are one binary that reads its own name), the arguments one a line, its output into log
-long runFreeFem(std::string *const &program, std::string *const &arguments, std::string *const &log) {
-  std::vector<std::string> args = {*program};
-  std::stringstream in(*arguments);
-  std::string line;
-  while (std::getline(in, line)) args.push_back(line);
-  return spawnAndWait(*program, args, *log);
 }
 
 // A 3D scene needs the script read again with -Ddimension=3, a macro definition, which only

@@ -4,9 +4,11 @@
 Reads the run folders DIR/runs/NAME that plots/bench.sh makes (summary.txt of edp/solve.edp,
 NAME.time with the wall seconds and peak memory of the process, NAME.error and
 NAME.solver_error from edp/compare.edp) and writes into DIR
-  steps.txt, steps_adapted.txt, steps3d.txt, iterations.txt, work_precision.txt   (plain text, '#' header
-  naming the columns)
-  bench_cost_per_step.png, bench_work_precision.png, bench_iterations.png
+  steps.txt, steps_adapted.txt, steps3d.txt, iterations.txt, work_precision.txt, rates.txt,
+  reference.txt   (plain text, '#' header naming the columns)
+  bench_cost_per_step.png, bench_work_precision.png, bench_adapted_mesh.png, bench_iterations.png,
+  bench_error_estimates.png (each run's own estimates of its errors against the true errors, when
+  the runs write them: summary.txt error_estimate_*)
 Usage: bench.py --bench DIR --reference RUN_DIR
 """
 import argparse
@@ -172,6 +174,11 @@ def final_estimates(folder):
         return NAN, NAN
     summary = runfiles.read_summary(folder)
     return tuple(number(summary.get(k, NAN)) for k in ESTIMATES)
+
+
+def floored(error, floor=1e-5):
+    """An error drawn on a log axis: at least floor (an exact 0 stays visible), nan kept."""
+    return error if math.isnan(error) else max(error, floor)
 
 
 def larger(a, b):
@@ -428,6 +435,7 @@ def parameter_order(name):
 def chart_work_precision(bench, columns, rows):
     c = {name: i for i, name in enumerate(columns)}
     fig, (ax, contact_ax, solver_ax) = plt.subplots(1, 3, figsize=(17, 4.8))
+    contact_families = []                         # the legend of the middle panel: colour = family, line = quantity
     labels = {"mesh": "uniform mesh (k = 0.01)", "adapt1": "adapted, 1 round from 33x16 (-adapt_err)",
               "adapt2": "adapted, 2 rounds from 33x16 (-adapt_err)",
               "dt": "time step k (66x33, against k = 0.00125)", "full": "full-system Newton (66x33)",
@@ -451,10 +459,13 @@ def chart_work_precision(bench, columns, rows):
                         fontsize=6, xytext=offsets[family][0], textcoords="offset points", ha=offsets[family][1])
         if family in ("mesh", "adapt1", "adapt2"):
             color = ax.get_lines()[-1].get_color()
-            contact_ax.loglog([r[c["wall"]] for r in pts], [max(r[c["error_x_B"]], r[c["error_x_C"]], 1e-5) for r in pts],
-                              marker, color=color, label=labels[family] + ": max |x_B err|, |x_C err| (m)")
-            contact_ax.loglog([r[c["wall"]] for r in pts], [r[c["relative_error_normal_force"]] for r in pts],
-                              marker[0] + ":", color=color, alpha=0.5, label=labels[family] + ": normal force, relative")
+            walls = [r[c["wall"]] for r in pts]
+            contact_ax.loglog(walls, [floored(larger(r[c["error_x_B"]], r[c["error_x_C"]])) for r in pts], marker, color=color)
+            contact_ax.loglog(walls, [floored(larger(r[c["error_x_B_estimate"]], r[c["error_x_C_estimate"]])) for r in pts],
+                              marker[0] + "--", color=color, markerfacecolor="none")
+            contact_ax.loglog(walls, [r[c["relative_error_normal_force"]] for r in pts], marker[0] + ":", color=color,
+                              alpha=0.5)
+            contact_families.append(plt.Line2D([], [], color=color, marker=marker[0], label=labels[family]))
         if family.startswith("tol"):
             sol = [r for r in pts if r[c["relative_solver_error_L2"]] > 0]
             if sol:
@@ -468,17 +479,80 @@ def chart_work_precision(bench, columns, rows):
     ax.set_title("work and precision (against the adapted reference)")
     ax.legend(fontsize=6)
     contact_ax.axhline(2e-3, color="0.6", linewidth=1)
+    contact_ax.axhline(1e-3, color="0.6", linewidth=1, linestyle="--")
     contact_ax.axvline(1, color="0.6", linewidth=1)
     contact_ax.set_xlabel("wall seconds of the whole run")
     contact_ax.set_ylabel("error at T (x_B, x_C in m, floored at 1e-5; force relative)")
-    contact_ax.set_title("contact quantities on Gamma3 (grey: 2e-3 m, 1 s)")
-    contact_ax.legend(fontsize=5)
+    contact_ax.set_title("contact quantities on Gamma3 (grey: 2e-3 m, dashed 1e-3 m, 1 s)")
+    quantities = [plt.Line2D([], [], color="k", marker="o", label="x_B, x_C node positions: the larger error (m)"),
+                  plt.Line2D([], [], color="k", marker="o", linestyle="--", markerfacecolor="none",
+                             label="x_B, x_C estimates between the nodes: the larger error (m)"),
+                  plt.Line2D([], [], color="k", marker="o", linestyle=":", alpha=0.5, label="normal force, relative error")]
+    contact_ax.set_ylim(top=contact_ax.get_ylim()[1] * 30)   # room for the legend above the points
+    contact_ax.legend(handles=contact_families + quantities, fontsize=6, loc="upper right")
     solver_ax.xaxis.set_minor_formatter(plt.NullFormatter())   # a narrow log range: no crowded minor labels
     solver_ax.set_xlabel("wall seconds of the time loop (66x33, 100 steps)")
     solver_ax.set_ylabel("relative L2 distance at T to the same mesh at tol 1e-13")
     solver_ax.set_title("what the tolerance buys each solver")
     solver_ax.legend(fontsize=7)
     return style.save(fig, bench, "bench_work_precision")
+
+
+def estimate_pairs(columns, rows):
+    """(run, quantity, estimated error, true error) for every error a run estimates (ERROR_ESTIMATES)
+    where both are finite and positive, in every family but dt: its true error is the time error
+    alone (against the 66x33 run at a smaller k), not what a run's estimate of its error is."""
+    c = {name: i for i, name in enumerate(columns)}
+    pairs = []
+    for r in rows:
+        if r[c["family"]] == "dt" or not r[c["converged"]]:
+            continue
+        for _, estimated, true in ERROR_ESTIMATES:
+            a, b = r[c[estimated]], r[c[true]]
+            if a > 0 and b > 0 and math.isfinite(a) and math.isfinite(b):
+                pairs.append((r[c["run"]], estimated.replace("estimate_error_", ""), a, b))
+    return pairs
+
+
+def chart_error_estimates(bench, pairs):
+    """bench_error_estimates.png: each run's estimate of its error against the true error
+    (log-log), the diagonal and the band of a factor 3; a note when no run estimates its error."""
+    fig, ax = plt.subplots(figsize=(6.4, 5.2))
+    if not pairs:
+        ax.text(0.5, 0.5, "no estimates in these runs\n(summary.txt has no error_estimate_* key)", ha="center",
+                va="center", transform=ax.transAxes)
+        ax.set_xticks([])
+        ax.set_yticks([])
+    else:
+        for quantity, marker in (("L2", "o"), ("normal_force", "s"), ("x_B", "^"), ("x_C", "v")):
+            pts = [(b, a) for _, q, a, b in pairs if q == quantity]
+            if pts:
+                ax.loglog(*zip(*pts), marker, linestyle="none", label={"L2": "v, L2(Omega)", "normal_force": "normal force",
+                                                                       "x_B": "x_B estimate (m)", "x_C": "x_C estimate (m)"}[quantity])
+        values = [p[2] for p in pairs] + [p[3] for p in pairs]
+        low, high = min(values) / 5, max(values) * 5
+        line = [low, high]
+        ax.loglog(line, line, "k-", linewidth=1, label="estimate = true error")
+        ax.fill_between(line, [x / 3 for x in line], [3 * x for x in line], color="0.85", zorder=0,
+                        label="within a factor 3")
+        ax.set_xlim(low, high)
+        ax.set_ylim(low, high)
+        ax.legend(fontsize=7, loc="upper left")
+    ax.set_xlabel("true error at T (against the reference; x_B, x_C: the estimates between the nodes)")
+    ax.set_ylabel("the run's own estimate of its error (summary.txt)")
+    ax.set_title("estimated against true error (all families but dt)", fontsize=9)
+    return style.save(fig, bench, "bench_error_estimates")
+
+
+def print_error_estimates(pairs):
+    """The largest ratios estimated/true and true/estimated over the runs that estimate their errors."""
+    if not pairs:
+        print("  error estimates: no estimates in these runs (no error_estimate_* key in summary.txt)")
+        return
+    over = max(pairs, key=lambda p: p[2] / p[3])
+    under = max(pairs, key=lambda p: p[3] / p[2])
+    print(f"  error estimates ({len(pairs)} pairs, all families but dt): largest estimated/true {over[2] / over[3]:.2f} "
+          f"({over[0]}, {over[1]}), largest true/estimated {under[3] / under[2]:.2f} ({under[0]}, {under[1]})")
 
 
 def chart_adapted_mesh(bench, columns, rows):
@@ -600,6 +674,9 @@ def main():
               f"{r[w['relative_error_normal_force']]:.1e}"
               + (f", solver error {r[w['relative_solver_error_L2']]:.3e}" if not math.isnan(r[w['relative_solver_error_L2']]) else ""))
     rates_and_margin(args.bench, args.reference, wcolumns, wrows)
+    pairs = estimate_pairs(wcolumns, wrows)
+    print_error_estimates(pairs)
+    chart_error_estimates(args.bench, pairs)
     chart_adapted_mesh(args.bench, wcolumns, wrows)
     ic = {name: i for i, name in enumerate(icolumns)}
     for r in irows:

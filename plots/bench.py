@@ -4,9 +4,11 @@
 Reads the run folders DIR/runs/NAME that plots/bench.sh makes (summary.txt of edp/solve.edp,
 NAME.time with the wall seconds and peak memory of the process, NAME.error and
 NAME.solver_error from edp/compare.edp) and writes into DIR
-  steps.txt, steps_adapted.txt, steps3d.txt, iterations.txt, work_precision.txt   (plain text, '#' header
-  naming the columns)
-  bench_cost_per_step.png, bench_work_precision.png, bench_iterations.png
+  steps.txt, steps_adapted.txt, steps3d.txt, iterations.txt, work_precision.txt, rates.txt,
+  reference.txt   (plain text, '#' header naming the columns)
+  bench_cost_per_step.png, bench_work_precision.png, bench_adapted_mesh.png, bench_iterations.png,
+  bench_error_estimates.png (each run's own estimates of its errors against the true errors, when
+  the runs write them: summary.txt error_estimate_*)
 Usage: bench.py --bench DIR --reference RUN_DIR
 """
 import argparse
@@ -39,11 +41,16 @@ def run_record(bench, name):
     return record
 
 
-def value(record, key):
+def number(text):
+    """A summary.txt value as a float, nan when it is not a number."""
     try:
-        return float(record["summary"].get(key, NAN))
-    except ValueError:
+        return float(text)
+    except (TypeError, ValueError):
         return NAN
+
+
+def value(record, key):
+    return number(record["summary"].get(key, NAN))
 
 
 def all_names(bench, prefix):
@@ -139,13 +146,52 @@ def iterations_table(bench):
     return columns, rows
 
 
-def final_contact(folder):
-    """x_B, x_C and the normal force at T (the last row of contact_history.txt; nan if none)."""
+def final_row(folder):
+    """The last row of contact_history.txt (the values at T) as a dict; empty when there is none."""
     path = os.path.join(folder, "contact_history.txt")
     if not os.path.isfile(path):
-        return NAN, NAN, NAN
+        return {}
     table = runfiles.read_table(path)
-    return tuple(float(table[k][-1]) for k in ("x_B", "x_C", "normal_force"))
+    return {name: float(table[name][-1]) for name in table.columns}
+
+
+def final_contact(folder):
+    """x_B, x_C and the normal force at T (the last row of contact_history.txt; nan if none)."""
+    row = final_row(folder)
+    return tuple(row.get(k, NAN) for k in ("x_B", "x_C", "normal_force"))
+
+
+ESTIMATES = ("x_B_estimate", "x_C_estimate")
+
+
+def final_estimates(folder):
+    """x_B_estimate, x_C_estimate at T: the zone boundaries located between the nodes (the last
+    row of contact_history.txt, else summary.txt; nan for a run that wrote neither)."""
+    row = final_row(folder)
+    if all(k in row for k in ESTIMATES):
+        return tuple(row[k] for k in ESTIMATES)
+    if not os.path.isfile(os.path.join(folder, "summary.txt")):
+        return NAN, NAN
+    summary = runfiles.read_summary(folder)
+    return tuple(number(summary.get(k, NAN)) for k in ESTIMATES)
+
+
+def floored(error, floor=1e-5):
+    """An error drawn on a log axis: at least floor (an exact 0 stays visible), nan kept."""
+    return error if math.isnan(error) else max(error, floor)
+
+
+def larger(a, b):
+    """The larger of two errors, nan when either is nan (an error not measured is not small)."""
+    return NAN if math.isnan(a) or math.isnan(b) else max(a, b)
+
+
+# A run's own estimates of its errors (summary.txt, when the run writes them) and the column of
+# work_precision.txt each is written to, then the column of the true error it is read against.
+ERROR_ESTIMATES = (("error_estimate_v_L2", "estimate_error_L2", "error_L2"),
+                   ("error_estimate_normal_force", "estimate_error_normal_force", "error_normal_force"),
+                   ("error_estimate_x_B", "estimate_error_x_B", "error_x_B_estimate"),
+                   ("error_estimate_x_C", "estimate_error_x_C", "error_x_C_estimate"))
 
 
 TIME_REFERENCE = "timeref-66x33-dt0.00125"
@@ -153,8 +199,9 @@ TIME_REFERENCE = "timeref-66x33-dt0.00125"
 
 def work_precision_table(bench, reference):
     rows = []
-    ref_contact = final_contact(reference)
-    time_contact = final_contact(os.path.join(bench, "runs", TIME_REFERENCE))
+    ref_contact, ref_estimates = final_contact(reference), final_estimates(reference)
+    timeref = os.path.join(bench, "runs", TIME_REFERENCE)
+    time_contact, time_estimates = final_contact(timeref), final_estimates(timeref)
     for name in all_names(bench, "wp-"):
         r = run_record(bench, name)
         family = name.split("-")[1]
@@ -163,20 +210,31 @@ def work_precision_table(bench, reference):
         e, se = r["error"], r["solver_error"]
         rel = e.get("error_L2", NAN) / e["norm_L2"] if e.get("norm_L2") else NAN
         srel = se.get("error_L2", NAN) / se["norm_L2"] if se.get("norm_L2") else NAN
-        against = time_contact if family == "dt" else ref_contact
-        xb, xc, fn = final_contact(os.path.join(bench, "runs", name)) if r["converged"] else (NAN, NAN, NAN)
+        against, against_estimates = (time_contact, time_estimates) if family == "dt" else (ref_contact, ref_estimates)
+        folder = os.path.join(bench, "runs", name)
+        xb, xc, fn = final_contact(folder) if r["converged"] else (NAN, NAN, NAN)
+        xbe, xce = final_estimates(folder) if r["converged"] else (NAN, NAN)
         rows.append([name, family, int(r["converged"]), value(r, "vertices"), r["wall"], e.get("error_L2", NAN), rel,
                      e.get("error_gamma3", NAN), abs(xb - against[0]), abs(xc - against[1]), abs(fn - against[2]) / abs(against[2]),
-                     srel, value(r, "time_loop")])
+                     srel, value(r, "time_loop"), abs(xbe - against_estimates[0]), abs(xce - against_estimates[1]),
+                     abs(fn - against[2])] + [value(r, key) for key, _, _ in ERROR_ESTIMATES])
     columns = ("run family converged vertices wall error_L2 relative_error_L2 error_gamma3 error_x_B error_x_C "
-               "relative_error_normal_force relative_solver_error_L2 time_loop").split()
+               "relative_error_normal_force relative_solver_error_L2 time_loop error_x_B_estimate error_x_C_estimate "
+               "error_normal_force").split() + [column for _, column, _ in ERROR_ESTIMATES]
     runfiles.write_table(os.path.join(bench, "work_precision.txt"),
                       [f"error at T against the reference {os.path.basename(reference)} (the family dt: against the",
                        f"66x33 run at k = 0.00125, {TIME_REFERENCE}) (edp/compare.edp: ||v - v_ref||_L2(Omega) with the",
                        "consistent mass matrix of the reference mesh, and max |dv_nu| on Gamma3; x_B, x_C and the normal",
                        "force at T from contact_history.txt), against the wall seconds of the whole process, adaptation",
                        "included; relative_solver_error_L2 (the tol family only): the same distance to the 66x33 run",
-                       "solved to tol 1e-13, relative; time_loop: wall seconds of the time loop alone (summary.txt)"],
+                       "solved to tol 1e-13, relative; time_loop: wall seconds of the time loop alone (summary.txt);",
+                       "error_x_B_estimate, error_x_C_estimate: |x_B_estimate - the reference's x_B_estimate| at T, the same",
+                       "for x_C (the zone boundaries located between the nodes; the last row of contact_history.txt, else",
+                       "summary.txt; nan when a run has none); error_normal_force: |normal force - the reference's| at T",
+                       "(absolute, the unit of contact_history.txt); estimate_error_L2, estimate_error_normal_force,",
+                       "estimate_error_x_B, estimate_error_x_C: the run's own estimates of its errors (summary.txt",
+                       "error_estimate_v_L2, error_estimate_normal_force, error_estimate_x_B, error_estimate_x_C; nan when",
+                       "absent), read against error_L2, error_normal_force, error_x_B_estimate, error_x_C_estimate"],
                       columns, rows)
     return columns, rows
 
@@ -189,6 +247,35 @@ def slope(xs, ys):
     mx = sum(p[0] for p in pts) / len(pts)
     my = sum(p[1] for p in pts) / len(pts)
     return sum((p[0] - mx) * (p[1] - my) for p in pts) / sum((p[0] - mx) ** 2 for p in pts)
+
+
+RATE_FAMILIES = (("mesh", "uniform meshes"), ("adapt1", "adapted meshes, one round"),
+                 ("adapt2", "adapted meshes, two rounds"))
+
+
+def contact_rates(c, rows):
+    """The rows FAMILY:QUANTITY of rates.txt (x_B, x_C as node positions and as estimates between
+    the nodes, uniform and adapted meshes, in h = vertices^-1/2), and a comment line for each rate
+    that could not be fitted, saying why."""
+    rate_rows, why = [], []
+    for family, meaning in RATE_FAMILIES:
+        runs = [r for r in rows if r[c["family"]] == family and r[c["converged"]]]
+        for quantity, what in (("x_B", "node"), ("x_B_estimate", "estimate"), ("x_C", "node"),
+                               ("x_C_estimate", "estimate")):
+            errors = [r[c["error_" + quantity]] for r in runs]
+            pts = [(r, e) for r, e in zip(runs, errors) if e > 0]          # nan and exact 0 excluded
+            rate = slope([r[c["vertices"]] ** -0.5 for r, _ in pts], [e for _, e in pts])
+            wall = -slope([r[c["wall"]] for r, _ in pts], [e for _, e in pts])
+            name = f"{family}:{quantity}"
+            rate_rows.append([name, len(pts), rate, wall, f"{meaning}, error of {quantity.split('_estimate')[0]} "
+                              f"({what}) in m, in h = vertices^-1/2"])
+            if math.isnan(rate):
+                zeros = sum(1 for e in errors if e == 0)
+                missing = sum(1 for e in errors if math.isnan(e))
+                why.append(f"{name}: rate nan, {len(pts)} finite nonzero point{'s' if len(pts) != 1 else ''} of "
+                           f"{len(runs)} converged run{'s' if len(runs) != 1 else ''} (two needed; {missing} nan, "
+                           f"{zeros} exactly 0)")
+    return rate_rows, why
 
 
 def rates_and_margin(bench, reference, columns, rows):
@@ -209,31 +296,46 @@ def rates_and_margin(bench, reference, columns, rows):
     ks = [float(r[c["run"]].split("-")[-1]) for r in pts]
     rate_rows.append(["dt", len(pts), slope(ks, [r[c["relative_error_L2"]] for r in pts]), NAN,
                       "time steps on 66x33, in k (against k = 0.00125)"])
+    why = [f"{r[0]}: rate nan, {r[1]} point{'s' if r[1] != 1 else ''} (two needed)" for r in rate_rows if math.isnan(r[2])]
+    contact_rows, contact_why = contact_rates(c, rows)
+    rate_rows, why = rate_rows + contact_rows, why + contact_why
     runfiles.write_table(os.path.join(bench, "rates.txt"),
                       ["observed rates: the least-squares slope of log(relative L2 error of v at T) against log h or",
-                       "log k (rate), and against log(wall seconds) (per_wall, negated: error ~ wall^-per_wall)"],
+                       "log k (rate), and against log(wall seconds) (per_wall, negated: error ~ wall^-per_wall);",
+                       "the rows FAMILY:QUANTITY, QUANTITY one of x_B, x_B_estimate, x_C, x_C_estimate: the same",
+                       "least-squares slopes of log|error at T| in m (the columns error_QUANTITY of work_precision.txt:",
+                       "the node position, or the estimate between the nodes, against the reference's) against",
+                       "log h, h = vertices^-1/2, over the family's converged runs whose error is finite and nonzero",
+                       "(points counts them)"] + why,
                       "family points rate per_wall meaning".split(), rate_rows)
     check = run_record(bench, "check-adapted")
     e = check["error"]
     estimate = e.get("error_L2", NAN) / e["norm_L2"] if e.get("norm_L2") else NAN
     space = [r[c["relative_error_L2"]] for r in ok if r[c["family"]] in ("mesh", "adapt1", "adapt2")]
     smallest = min(space) if space else NAN
+    check_estimates = final_estimates(os.path.join(bench, "runs", "check-adapted")) if check["converged"] else (NAN, NAN)
+    check_distances = [abs(a - b) for a, b in zip(check_estimates, final_estimates(reference))]
     runfiles.write_table(os.path.join(bench, "reference.txt"),
                       ["the reference's error: estimated as its distance to the check run (twice its -adapt_err; the",
                        "error of an adapted mesh falls like -adapt_err, so the check's error is about twice the",
                        "reference's and the distance about the reference's own), and the margin below the smallest",
-                       "error of a uniform or adapted run in work_precision.txt"],
-                      "reference vertices estimated_relative_error smallest_reported_error margin".split(),
+                       "error of a uniform or adapted run in work_precision.txt; check_distance_x_B_estimate,",
+                       "check_distance_x_C_estimate: |the check's x_B_estimate - the reference's| at T, the same for x_C",
+                       "(m): how well the reference itself knows the zone boundaries (nan when a run has none)"],
+                      ("reference vertices estimated_relative_error smallest_reported_error margin "
+                       "check_distance_x_B_estimate check_distance_x_C_estimate").split(),
                       [[os.path.basename(reference), value(run_record(bench, "reference-adapted"), "vertices"), estimate,
-                        smallest, smallest / estimate if estimate > 0 else NAN]])
+                        smallest, smallest / estimate if estimate > 0 else NAN] + check_distances])
     for r in rate_rows:
         if math.isnan(r[2]):
-            print(f"  rate {r[0]:7s} n/a ({r[4]}: {r[1]} point{'s' if r[1] != 1 else ''}, two needed)")
+            print(f"  rate {r[0]:19s} n/a ({r[4]}: {r[1]} point{'s' if r[1] != 1 else ''}, two needed)")
             continue
-        per_wall = f", error ~ wall^-{r[3]:.2f}" if not math.isnan(r[3]) else ""
-        print(f"  rate {r[0]:7s} {r[2]:6.2f} in h or k{per_wall}  ({r[4]}, {r[1]} points)")
+        per_wall = f", error ~ wall^{-r[3]:.2f}" if not math.isnan(r[3]) else ""
+        print(f"  rate {r[0]:19s} {r[2]:6.2f} in h or k{per_wall}  ({r[4]}, {r[1]} points)")
     print(f"  reference: estimated relative error {estimate:.3e}, smallest reported error {smallest:.3e}, "
           f"margin {smallest / estimate if estimate > 0 else NAN:.1f}x")
+    print(f"  reference: its x_B and x_C estimates {check_distances[0]:.1e} and {check_distances[1]:.1e} m from the "
+          "check run's")
     uniform = [r for r in ok if r[c["run"]] == "wp-mesh-264x132"]
     if uniform:
         target, wall = uniform[0][c["relative_error_L2"]], uniform[0][c["wall"]]
@@ -246,10 +348,29 @@ def rates_and_margin(bench, reference, columns, rows):
             print(f"  target: no adapted run reaches the error {target:.3e} of uniform 264x132")
     else:
         print("  target: no uniform 264x132 run to compare with (--quick skips it)")
-    fast = [r for r in ok if r[c["family"]].startswith("adapt") and r[c["wall"]] < 1
-            and max(r[c["error_x_B"]], r[c["error_x_C"]]) <= 2e-3]
-    print("  x_B and x_C within 2e-3 m under 1 s: " + (", ".join(f"{r[c['run']]} ({r[c['wall']]:.2f} s, "
-          f"{max(r[c['error_x_B']], r[c['error_x_C']]):.1e} m)" for r in fast) if fast else "none"))
+    print_contact_targets(c, ok, check_distances)
+
+
+def print_contact_targets(c, ok, check_distances):
+    """The runs under 1 s wall whose x_B and x_C are both within the target of the reference's:
+    the node positions (2e-3 m, adapted meshes) and the estimates between the nodes (1e-3 m, the
+    project's target, uniform and adapted meshes); with none, the closest run under 1 s.
+    check_distances: how far the check run's estimates lie from the reference's."""
+    for label, suffix, limit, text, families in (("x_B and x_C", "", 2e-3, "2e-3", ("adapt1", "adapt2")),
+                                                  ("x_B and x_C estimates", "_estimate", 1e-3, "1e-3",
+                                                   ("mesh", "adapt1", "adapt2"))):
+        fast = sorted(((larger(r[c["error_x_B" + suffix]], r[c["error_x_C" + suffix]]), r[c["wall"]], r[c["run"]])
+                       for r in ok if r[c["family"]] in families and r[c["wall"]] < 1), key=lambda t: (math.isnan(t[0]), t))
+        met = [t for t in fast if t[0] <= limit]
+        where = "adapted" if len(families) == 2 else "uniform or adapted"
+        line = ", ".join(f"{run} ({wall:.2f} s, {error:.2e} m)" for error, wall, run in sorted(met, key=lambda t: t[1]))
+        if not met:
+            line = "none" + (f" (closest: {fast[0][2]}, {fast[0][0]:.2e} m in {fast[0][1]:.2f} s)"
+                             if suffix and fast and not math.isnan(fast[0][0]) else "")
+        if suffix and larger(*check_distances) > limit:
+            line += (f"; the reference's own estimates lie up to {larger(*check_distances):.1e} m from the check "
+                     "run's, more than the target (reference.txt)")
+        print(f"  {label} within {text} m under 1 s ({where} meshes): {line}")
 
 
 def chart_cost_per_step(bench, columns, rows, rows3d=()):
@@ -314,6 +435,7 @@ def parameter_order(name):
 def chart_work_precision(bench, columns, rows):
     c = {name: i for i, name in enumerate(columns)}
     fig, (ax, contact_ax, solver_ax) = plt.subplots(1, 3, figsize=(17, 4.8))
+    contact_families = []                         # the legend of the middle panel: colour = family, line = quantity
     labels = {"mesh": "uniform mesh (k = 0.01)", "adapt1": "adapted, 1 round from 33x16 (-adapt_err)",
               "adapt2": "adapted, 2 rounds from 33x16 (-adapt_err)",
               "dt": "time step k (66x33, against k = 0.00125)", "full": "full-system Newton (66x33)",
@@ -337,10 +459,13 @@ def chart_work_precision(bench, columns, rows):
                         fontsize=6, xytext=offsets[family][0], textcoords="offset points", ha=offsets[family][1])
         if family in ("mesh", "adapt1", "adapt2"):
             color = ax.get_lines()[-1].get_color()
-            contact_ax.loglog([r[c["wall"]] for r in pts], [max(r[c["error_x_B"]], r[c["error_x_C"]], 1e-5) for r in pts],
-                              marker, color=color, label=labels[family] + ": max |x_B err|, |x_C err| (m)")
-            contact_ax.loglog([r[c["wall"]] for r in pts], [r[c["relative_error_normal_force"]] for r in pts],
-                              marker[0] + ":", color=color, alpha=0.5, label=labels[family] + ": normal force, relative")
+            walls = [r[c["wall"]] for r in pts]
+            contact_ax.loglog(walls, [floored(larger(r[c["error_x_B"]], r[c["error_x_C"]])) for r in pts], marker, color=color)
+            contact_ax.loglog(walls, [floored(larger(r[c["error_x_B_estimate"]], r[c["error_x_C_estimate"]])) for r in pts],
+                              marker[0] + "--", color=color, markerfacecolor="none")
+            contact_ax.loglog(walls, [r[c["relative_error_normal_force"]] for r in pts], marker[0] + ":", color=color,
+                              alpha=0.5)
+            contact_families.append(plt.Line2D([], [], color=color, marker=marker[0], label=labels[family]))
         if family.startswith("tol"):
             sol = [r for r in pts if r[c["relative_solver_error_L2"]] > 0]
             if sol:
@@ -354,17 +479,80 @@ def chart_work_precision(bench, columns, rows):
     ax.set_title("work and precision (against the adapted reference)")
     ax.legend(fontsize=6)
     contact_ax.axhline(2e-3, color="0.6", linewidth=1)
+    contact_ax.axhline(1e-3, color="0.6", linewidth=1, linestyle="--")
     contact_ax.axvline(1, color="0.6", linewidth=1)
     contact_ax.set_xlabel("wall seconds of the whole run")
     contact_ax.set_ylabel("error at T (x_B, x_C in m, floored at 1e-5; force relative)")
-    contact_ax.set_title("contact quantities on Gamma3 (grey: 2e-3 m, 1 s)")
-    contact_ax.legend(fontsize=5)
+    contact_ax.set_title("contact quantities on Gamma3 (grey: 2e-3 m, dashed 1e-3 m, 1 s)")
+    quantities = [plt.Line2D([], [], color="k", marker="o", label="x_B, x_C node positions: the larger error (m)"),
+                  plt.Line2D([], [], color="k", marker="o", linestyle="--", markerfacecolor="none",
+                             label="x_B, x_C estimates between the nodes: the larger error (m)"),
+                  plt.Line2D([], [], color="k", marker="o", linestyle=":", alpha=0.5, label="normal force, relative error")]
+    contact_ax.set_ylim(top=contact_ax.get_ylim()[1] * 30)   # room for the legend above the points
+    contact_ax.legend(handles=contact_families + quantities, fontsize=6, loc="upper right")
     solver_ax.xaxis.set_minor_formatter(plt.NullFormatter())   # a narrow log range: no crowded minor labels
     solver_ax.set_xlabel("wall seconds of the time loop (66x33, 100 steps)")
     solver_ax.set_ylabel("relative L2 distance at T to the same mesh at tol 1e-13")
     solver_ax.set_title("what the tolerance buys each solver")
     solver_ax.legend(fontsize=7)
     return style.save(fig, bench, "bench_work_precision")
+
+
+def estimate_pairs(columns, rows):
+    """(run, quantity, estimated error, true error) for every error a run estimates (ERROR_ESTIMATES)
+    where both are finite and positive, in every family but dt: its true error is the time error
+    alone (against the 66x33 run at a smaller k), not what a run's estimate of its error is."""
+    c = {name: i for i, name in enumerate(columns)}
+    pairs = []
+    for r in rows:
+        if r[c["family"]] == "dt" or not r[c["converged"]]:
+            continue
+        for _, estimated, true in ERROR_ESTIMATES:
+            a, b = r[c[estimated]], r[c[true]]
+            if a > 0 and b > 0 and math.isfinite(a) and math.isfinite(b):
+                pairs.append((r[c["run"]], estimated.replace("estimate_error_", ""), a, b))
+    return pairs
+
+
+def chart_error_estimates(bench, pairs):
+    """bench_error_estimates.png: each run's estimate of its error against the true error
+    (log-log), the diagonal and the band of a factor 3; a note when no run estimates its error."""
+    fig, ax = plt.subplots(figsize=(6.4, 5.2))
+    if not pairs:
+        ax.text(0.5, 0.5, "no estimates in these runs\n(summary.txt has no error_estimate_* key)", ha="center",
+                va="center", transform=ax.transAxes)
+        ax.set_xticks([])
+        ax.set_yticks([])
+    else:
+        for quantity, marker in (("L2", "o"), ("normal_force", "s"), ("x_B", "^"), ("x_C", "v")):
+            pts = [(b, a) for _, q, a, b in pairs if q == quantity]
+            if pts:
+                ax.loglog(*zip(*pts), marker, linestyle="none", label={"L2": "v, L2(Omega)", "normal_force": "normal force",
+                                                                       "x_B": "x_B estimate (m)", "x_C": "x_C estimate (m)"}[quantity])
+        values = [p[2] for p in pairs] + [p[3] for p in pairs]
+        low, high = min(values) / 5, max(values) * 5
+        line = [low, high]
+        ax.loglog(line, line, "k-", linewidth=1, label="estimate = true error")
+        ax.fill_between(line, [x / 3 for x in line], [3 * x for x in line], color="0.85", zorder=0,
+                        label="within a factor 3")
+        ax.set_xlim(low, high)
+        ax.set_ylim(low, high)
+        ax.legend(fontsize=7, loc="upper left")
+    ax.set_xlabel("true error at T (against the reference; x_B, x_C: the estimates between the nodes)")
+    ax.set_ylabel("the run's own estimate of its error (summary.txt)")
+    ax.set_title("estimated against true error (all families but dt)", fontsize=9)
+    return style.save(fig, bench, "bench_error_estimates")
+
+
+def print_error_estimates(pairs):
+    """The largest ratios estimated/true and true/estimated over the runs that estimate their errors."""
+    if not pairs:
+        print("  error estimates: no estimates in these runs (no error_estimate_* key in summary.txt)")
+        return
+    over = max(pairs, key=lambda p: p[2] / p[3])
+    under = max(pairs, key=lambda p: p[3] / p[2])
+    print(f"  error estimates ({len(pairs)} pairs, all families but dt): largest estimated/true {over[2] / over[3]:.2f} "
+          f"({over[0]}, {over[1]}), largest true/estimated {under[3] / under[2]:.2f} ({under[0]}, {under[1]})")
 
 
 def chart_adapted_mesh(bench, columns, rows):
@@ -481,10 +669,14 @@ def main():
     w = {name: i for i, name in enumerate(wcolumns)}
     for r in wrows:
         print(f"  {r[0]:28s} {r[w['vertices']]:7.0f} vertices, wall {r[w['wall']]:7.2f} s, relative L2 error "
-              f"{r[w['relative_error_L2']]:.3e}, x_B {r[w['error_x_B']]:.1e} m, x_C {r[w['error_x_C']]:.1e} m, normal force "
+              f"{r[w['relative_error_L2']]:.3e}, x_B {r[w['error_x_B']]:.1e} m (estimate {r[w['error_x_B_estimate']]:.1e}), "
+              f"x_C {r[w['error_x_C']]:.1e} m (estimate {r[w['error_x_C_estimate']]:.1e}), normal force "
               f"{r[w['relative_error_normal_force']]:.1e}"
               + (f", solver error {r[w['relative_solver_error_L2']]:.3e}" if not math.isnan(r[w['relative_solver_error_L2']]) else ""))
     rates_and_margin(args.bench, args.reference, wcolumns, wrows)
+    pairs = estimate_pairs(wcolumns, wrows)
+    print_error_estimates(pairs)
+    chart_error_estimates(args.bench, pairs)
     chart_adapted_mesh(args.bench, wcolumns, wrows)
     ic = {name: i for i, name in enumerate(icolumns)}
     for r in irows:

@@ -12,9 +12,13 @@
 #   iterations.txt      iterations and time per step against the augmentation r, Newton and
 #                       fixed point, on 66x33 and 132x66
 #   work_precision.txt  error against wall time for uniform and adapted meshes, time steps,
-#                       modes, tolerances and eps; the errors of x_B, x_C and the normal force
-#   rates.txt           the observed convergence rates in h (uniform, adapted) and in k
-#   reference.txt       the reference's estimated error and its margin below the smallest error
+#                       modes, tolerances and eps; the errors of x_B, x_C (node positions and
+#                       the estimates between the nodes) and the normal force; a run's own
+#                       error estimates when it writes them (summary.txt error_estimate_*)
+#   rates.txt           the observed convergence rates in h (uniform, adapted) and in k; those
+#                       of x_B, x_C and their estimates in h
+#   reference.txt       the reference's estimated error and its margin below the smallest error;
+#                       how far the check run's x_B, x_C estimates lie from the reference's
 #   *.png               the charts (plots/bench.py)
 # --quick: the two coarsest meshes and fewer points.
 # Runs one solve at a time, so that the timings are not disturbed by a second process.

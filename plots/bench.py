@@ -188,8 +188,8 @@ def larger(a, b):
 
 # A run's own estimates of its errors (summary.txt, when the run writes them) and the column of
 # work_precision.txt each is written to, then the column of the true error it is read against.
-ERROR_ESTIMATES = (("error_estimate_v_L2", "estimate_error_L2", "error_L2"),
-                   ("error_estimate_normal_force", "estimate_error_normal_force", "error_normal_force"),
+ERROR_ESTIMATES = (("error_estimate_v_L2", "estimate_error_L2", "relative_error_L2"),
+                   ("error_estimate_normal_force", "estimate_error_normal_force", "relative_error_normal_force"),
                    ("error_estimate_x_B", "estimate_error_x_B", "error_x_B_estimate"),
                    ("error_estimate_x_C", "estimate_error_x_C", "error_x_C_estimate"))
 
@@ -234,7 +234,8 @@ def work_precision_table(bench, reference):
                        "(absolute, the unit of contact_history.txt); estimate_error_L2, estimate_error_normal_force,",
                        "estimate_error_x_B, estimate_error_x_C: the run's own estimates of its errors (summary.txt",
                        "error_estimate_v_L2, error_estimate_normal_force, error_estimate_x_B, error_estimate_x_C; nan when",
-                       "absent), read against error_L2, error_normal_force, error_x_B_estimate, error_x_C_estimate"],
+                       "absent; the first two relative), read against relative_error_L2, relative_error_normal_force,",
+                       "error_x_B_estimate, error_x_C_estimate"],
                       columns, rows)
     return columns, rows
 

@@ -5,7 +5,8 @@
 
 A run folder holds summary.txt and run.complete (docs/design.md, "Output files"). Each
 RUN_DIR/figures/ receives the figures its files allow (docs/figures.md):
-  contact_at_T.png   v_nu and g, p_nu, lambda_tau and the friction bound along Gamma3 at T
+  contact_at_T.png   v_nu and g, p_nu, lambda_tau and the friction bound along Gamma3 at T,
+                     the run's own error estimates under the title (summary.txt)
   histories.png      contact forces, nodes per zone, energy terms and balance against t
   deformed.png       the deformed body at T coloured by the von Mises stress
   zone_map.png       the zone of every contact node against its position and t
@@ -154,10 +155,43 @@ def nodes_in_panels(axes, run, color, name):
     axes[2].plot(s, -c["friction_bound"], **dash)
 
 
+ESTIMATES = (("error_estimate_v_L2", "v", "{:.1e} (relative L$^2$)"),
+             ("error_estimate_normal_force", "normal force", "{:.1e} (relative)"),
+             ("error_estimate_x_B", "$x_B$ estimate", "{:.1e} m"), ("error_estimate_x_C", "$x_C$ estimate", "{:.1e} m"))
+
+
+def estimate_note(run):
+    """The run's own error estimates at T (summary.txt, docs/design.md "Error estimates") as a
+    line of a title: each finite one, and the companion they come from or why there is none;
+    "" for a run written before the suite made them."""
+    summary = runfiles.read_summary(run.folder)
+    if "error_estimate_source" not in summary:
+        return ""
+    source = summary["error_estimate_source"]
+    shown = []
+    for key, name, form in ESTIMATES:
+        try:
+            value = float(summary.get(key, "nan"))
+        except ValueError:
+            raise runfiles.InputError(f"{summary.source}: {key} is not a number") from None
+        if np.isinf(value) or value < 0:
+            raise runfiles.InputError(f"{summary.source}: {key} is {value}, not an error")
+        if np.isfinite(value):
+            shown.append(f"{name} {form.format(value)}")
+    if not shown:
+        text = f"error estimates: none ({source.removeprefix('none: ')})"
+    else:
+        text = f"estimated error in space ({source.split(',')[0].split(' (')[0]}): {', '.join(shown)}"
+    return "\n".join(textwrap.wrap(text, 110))
+
+
 def contact_at_T(run):
-    """v_nu with g, p_nu, lambda_tau with +-friction_bound along Gamma3 at T, zones shaded."""
+    """v_nu with g, p_nu, lambda_tau with +-friction_bound along Gamma3 at T, zones shaded; the
+    run's own error estimates under the title."""
     p = run.contact.params
-    return contact_panels(f"{run.name}: contact on $\\Gamma_3$ at T = {p['T']} ({style.problem_label(p)})", [run], True)
+    note = estimate_note(run)
+    return contact_panels(f"{run.name}: contact on $\\Gamma_3$ at T = {p['T']} ({style.problem_label(p)})"
+                          + (f"\n{note}" if note else ""), [run], True)
 
 
 def compare_contact(runs):
@@ -387,8 +421,10 @@ def contact_at_T3(run):
                    "friction: the friction bound is 0 at every node (frictionless)")
     cone.legend(handles=cone.get_legend_handles_labels()[0] + style.zone_patches(run.zone_types, run.zones), fontsize=7,
                 loc="upper left", bbox_to_anchor=(1.01, 1.0))
+    note = estimate_note(run)
     fig.suptitle(f"{run.name}: contact on $\\Gamma_3$ at T = {p['T']} ({style.problem_label(p)})\n{face.view}"
-                 + ("; $\\Gamma_3$ overlaps itself in this view" if face.folded else ""), fontsize=10)
+                 + ("; $\\Gamma_3$ overlaps itself in this view" if face.folded else "") + (f"\n{note}" if note else ""),
+                 fontsize=10)
     return fig
 
 

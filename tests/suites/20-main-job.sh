@@ -68,3 +68,63 @@ print("\n".join(failures))
 sys.exit(1 if failures else 0)
 PY
 report $status "zone boundaries between the nodes: x_B_estimate, x_C_estimate between the zone's first node and the one before it, or on it where it is Gamma3's first (paper, both problems, a column, a bound profile, unloading, the cylinder), nan in 3D" "$diag"
+
+# ---- every run states its error (docs/design.md, "Error estimates"): on the paper scene the
+# estimates of v at T and of the normal force lie within a factor 3 of the run's distance to
+# the run on a mesh twice finer (132x66; for an order p between 1 and 2 that distance is 1/2
+# to 3/4 of the true error, docs/performance.md, "Error estimates"), from the structured
+# companion and from a coarsened one (the same mesh given with -mesh); -estimate off and a
+# -restart run have none and say why; in 3D the zone estimates are nan, the others finite;
+# the companion's mesh is not left in the run folder
+diag="$work/error-estimates.diag"; : > "$diag"; status=0
+rm -rf "$work/estimate-fine" "$work/estimate-mesh" "$work/estimate-off" "$work/estimate-restart"
+solve -nx 132 -ny 66 -quiet -out "$work/estimate-fine" >> "$diag" 2>&1 || status=1
+solve -mesh "$work/paper-original/mesh.msh" -quiet -out "$work/estimate-mesh" >> "$diag" 2>&1 || status=1
+solve -nx 16 -ny 8 -T 0.1 -estimate off -quiet -out "$work/estimate-off" >> "$diag" 2>&1 || status=1
+solve -restart "$work/estimate-off" -T 0.2 -estimate on -quiet -out "$work/estimate-restart" >> "$diag" 2>&1 || status=1
+for run in paper-original estimate-mesh; do
+  "${FREEFEM[@]}" edp/compare.edp -a "$work/$run" -ref "$work/estimate-fine" > "$work/$run.distance" 2>> "$diag" || status=1
+done
+"$PYTHON" - "$work" >> "$diag" 2>&1 <<'PY' || status=1
+import math, os, sys
+sys.path.insert(0, "edp")
+import runfiles
+work = sys.argv[1]
+failures = []
+fine = runfiles.read_table(os.path.join(work, "estimate-fine", "contact_history.txt"))["normal_force"][-1]
+for run, source in (("paper-original", "companion 33x16 "), ("estimate-mesh", "companion: the run's mesh coarsened")):
+    folder = os.path.join(work, run)
+    summary = runfiles.read_summary(folder)
+    if not summary["error_estimate_source"].startswith(source):
+        failures.append(f"{run}: error_estimate_source '{summary['error_estimate_source']}', expected '{source}...'")
+    words = open(os.path.join(work, run + ".distance")).read().split()
+    distance = dict(zip(words[::2], map(float, words[1::2])))
+    force = runfiles.read_table(os.path.join(folder, "contact_history.txt"))["normal_force"][-1]
+    for key, true in (("error_estimate_v_L2", distance["error_L2"] / distance["norm_L2"]),
+                      ("error_estimate_normal_force", abs(force - fine) / abs(force))):
+        estimate = summary.real(key)
+        if not (true / 3 <= estimate <= 3 * true):
+            failures.append(f"{run}: {key} = {estimate}, the distance to 132x66 is {true}: not within a factor 3")
+    for key in ("error_estimate_x_B", "error_estimate_x_C"):
+        if not summary.real(key) > 0:
+            failures.append(f"{run}: {key} = {summary[key]}, expected a positive number")
+    if os.path.exists(os.path.join(folder, "companion.msh")):
+        failures.append(f"{run}: companion.msh left in the run folder")
+for run, why in (("estimate-off", "none: -estimate off"), ("estimate-restart", "none: a -restart run")):
+    summary = runfiles.read_summary(os.path.join(work, run))
+    if not summary["error_estimate_source"].startswith(why):
+        failures.append(f"{run}: error_estimate_source '{summary['error_estimate_source']}', expected '{why}...'")
+    for key in ("error_estimate_v_L2", "error_estimate_normal_force", "error_estimate_x_B", "error_estimate_x_C"):
+        if summary[key] != "nan":
+            failures.append(f"{run}: {key} = {summary[key]}, expected nan")
+summary = runfiles.read_summary(os.path.join(work, "slab3d"))
+if not summary["error_estimate_source"].startswith("companion 8x4x1 "):
+    failures.append(f"slab3d: error_estimate_source '{summary['error_estimate_source']}'")
+if not (summary.real("error_estimate_v_L2") > 0 and summary.real("error_estimate_normal_force") > 0):
+    failures.append("slab3d: the estimates of v and of the normal force are not positive numbers")
+if summary["error_estimate_x_B"] != "nan" or summary["error_estimate_x_C"] != "nan":
+    failures.append("slab3d: the zone boundary estimates are not nan in 3D")
+print("\n".join(failures))
+sys.exit(1 if failures else 0)
+PY
+report $status "error estimates: v at T and the normal force within a factor 3 of the distance to a mesh twice finer (structured and coarsened companions); none, and why, with -estimate off and -restart; nan zone estimates in 3D; no companion mesh left behind" "$diag"

@@ -172,6 +172,9 @@ assert list(sequence) == [0, 1, 3, 4], sequence                  # free, damped-
 history = runfiles.read_table(run + "/contact_history.txt")
 xb, xc = history["x_B"][-1], history["x_C"][-1]
 assert abs(xb - 0.480) < 0.02 and abs(xc - 1.337) < 0.02, (xb, xc)
+# the last pilot is the companion of the error estimates (docs/design.md, "Error estimates")
+assert summary["error_estimate_source"].startswith(f"companion: the pilot run of round 2, on the mesh of round 1, {rounds[1]} vertices"), summary["error_estimate_source"]
+assert all(summary.real(k) > 0 for k in ("error_estimate_v_L2", "error_estimate_normal_force", "error_estimate_x_B", "error_estimate_x_C")), summary
 PY
 solve -nx 16 -ny 8 -adapt 2 -out "$work/adapt2" >> "$diag" 2>&1 || status=1
 cmp "$work/adapt/mesh.msh" "$work/adapt2/mesh.msh" >> "$diag" 2>&1 || status=1
@@ -190,7 +193,7 @@ solve -nx 16 -ny 8 -adapt 1 -maxit 1 -out "$work/adapt4" > "$work/adapt4.err" 2>
   && [ ! -e "$work/adapt4" ]; } || { echo "pilot failure: exit $code"; cat "$work/adapt4.err"; status=1; } >> "$diag"
 # fewer steps than the five snapshots of a pilot: a frame a step, the last standing for the rest
 solve -nx 16 -ny 8 -adapt 1 -T 0.02 -out "$work/adapt5" >> "$diag" 2>&1 || { echo "-adapt with 2 steps failed" >> "$diag"; status=1; }
-report $status "-adapt 2: the paper's zones in order, x_B and x_C within 0.02 m, physics checks; the same mesh byte for byte when made again; repeated from OUT/mesh.msh, whose mesh_source still says how it was made; a vertex budget or a failed pilot stops the run (exit 2, 4) with no output; fewer steps than snapshots" "$diag"
+report $status "-adapt 2: the paper's zones in order, x_B and x_C within 0.02 m, physics checks; the same mesh byte for byte when made again; repeated from OUT/mesh.msh, whose mesh_source still says how it was made; a vertex budget or a failed pilot stops the run (exit 2, 4) with no output; fewer steps than snapshots; the last pilot is the companion of the error estimates" "$diag"
 
 # -snapshots N: x, y, u, v at every vertex at the first step at or after j T/N; the last frame
 # is fields.txt's u and v; N above the steps gives every step

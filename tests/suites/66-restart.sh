@@ -3,7 +3,8 @@
 # variables and functions (solve, report, expect_failure, work, PYTHON, ...).
 # ---- a run split at t0 gives the whole run from t0 on: each restart passes the physics checks
 # and agrees with the whole run to 1e-9 of each column's scale (the solver stops at 1e-10;
-# measured 2e-14 in 2D, 3e-13 in 3D), its steps numbered on from the first part's
+# measured 2e-14 in 2D, 3e-13 in 3D), its steps numbered on from the first part's; its
+# zone_boundaries.txt holds the whole run's rows from its first step on
 restart_case() { # restart_case NAME T0 T OPTIONS...: whole to T, first part to T0, the restart to T
   local name="$1" t0="$2" T="$3" diag="$work/restart-$1.diag"; shift 3
   local status=0
@@ -13,12 +14,14 @@ restart_case() { # restart_case NAME T0 T OPTIONS...: whole to T, first part to 
   solve "$@" -T "$t0" -out "$work/restart-$name-first" >> "$diag" 2>&1 || status=1
   solve -restart "$work/restart-$name-first" -T "$T" -out "$work/restart-$name-second" >> "$diag" 2>&1 || status=1
   "$PYTHON" tests/check_results.py "$work/restart-$name-second" --compare "$work/restart-$name-whole" --rtol 1e-9 >> "$diag" 2>&1 || status=1
+  # zone_boundaries.txt numbered on too: the whole run's rows from the restart's first step on
+  "$PYTHON" tests/check_zone_boundaries.py --restart-of "$work/restart-$name-whole" "$work/restart-$name-second" >> "$diag" 2>&1 || status=1
   # the restart starts where the first part ended: its first step is the next one
   local first last
   first="$(awk '$1 == "first_step" { print $2 }' "$work/restart-$name-second/summary.txt" 2>/dev/null)"
   last="$(awk '$2 == "restart_step" { print $3 }' "$work/restart-$name-first/state.txt" 2>/dev/null)"
   [ -n "$first" ] && [ "$first" = "$((last + 1))" ] || { echo "first_step '$first' after a first part of '$last' steps" >> "$diag"; status=1; }
-  report $status "-restart: $name split at t = $t0 gives the whole run to T = $T (physics checks, 1e-9 of each column's scale)" "$diag"
+  report $status "-restart: $name split at t = $t0 gives the whole run to T = $T (physics checks, 1e-9 of each column's scale, the zone boundaries' rows)" "$diag"
 }
 restart_case paper-original 0.5 1 -scene paper -nx 8 -ny 4 -dt 0.1
 restart_case paper-penalty 0.5 1 -scene paper -nx 8 -ny 4 -dt 0.1 -problem penalty

@@ -46,6 +46,10 @@
 //       3D (v_nu, v_tau, v_tau2), rows 3i, 3i + 1, 3i + 2): what the nodes report
 //   contactKernelNodeFrames(real[int,int] frame, real[int] mean)  3D: each node's n, t1, t2 and
 //       Gamma3's mean frame T1, T2 (the record's tangential forces are on T1 and T2)
+//   contactKernelNodeEdges(int[int] a, int[int] b)  Gamma3's edges, the pairs (a[e], b[e]) of
+//       neighbouring nodes (2D: its boundary edges; 3D: the edges of its triangles), after
+//       contactKernelNodes: where the record looks for zone boundaries, and in 2D the positions
+//       along Gamma3 (nodes.cpp, setNodeEdges)
 //   contactKernelNodeBounds(real[int] g)  each node's velocity bound g (the law's)
 //   contactKernelDampingSlope(real[int] Kn)  Kn per slot (p'(g) on normal slots), folded into S
 //   contactKernelZones()  how many zones the law has (contactlaw.hpp, zone)
@@ -97,7 +101,11 @@
 //       initial state of the energy balance; Mv = M v0, Bu = B u0
 //   contactKernelRecord(real[int] v, real[int] u, real[int] Lambda, real[int] f, real[int] Mv,
 //       real[int] Bu, real[int] record)  the record of a step, the columns "record"; Mv, Bu
-//       become M v, B u; returns 1 if the energy balance is not finite
+//       become M v, B u; returns 1 if the energy balance is not finite; keeps the zone
+//       boundaries it finds on Gamma3's edges (contactKernelNodeEdges) for:
+//   contactKernelZoneBoundaries(string file)  appends the rows of zone_boundaries.txt of every
+//       record since contactKernelRecordStart to file (its header written); 1 if the file was
+//       not written whole
 //   contactKernelHistory(real[int] info, real[int] history)  the arrays into which each
 //       contactKernelRecord then also writes its step's row of the table "history" (t,
 //       iterations and residual from info, the solvers' "solver_info", then the record), row n
@@ -273,6 +281,14 @@ long nodeFrames(KNM<double> *const &pframe, KN<double> *const &pmean) {
   for (int i = 0; i < nn; i++) for (int c = 0; c < 9; c++) frames[9 * i + c] = frame(i, c);
   const std::vector<double> mean = copyOf(*pmean);
   setNodeFrames(k, frames, mean.data());
+  return 0;
+}
+
+long nodeEdges(KN<long> *const &pa, KN<long> *const &pb) {
+  std::vector<long> a(pa->N()), b(pb->N());
+  for (int e = 0; e < pa->N(); e++) a[e] = (*pa)[e];
+  for (int e = 0; e < pb->N(); e++) b[e] = (*pb)[e];
+  setNodeEdges(kernel(), a, b);
   return 0;
 }
 
@@ -543,7 +559,7 @@ long historyArrays(KN<double> *const &pinfo, KN<double> *const &phistory) {
 void writeHistoryRow(Kernel &k, const KN<double> &rec) {
   if (!k.historyArrays.rows) return;
   KN<double> &info = *k.historyArrays.info, &history = *k.historyArrays.rows;
-  const long n = ++k.record.step;
+  const long n = k.record.step;                     // (recordStep counted this step)
   if (info.N() < solverInfoColumnCount || history.N() < historyColumnCount * n)
     ExecError("contactKernelRecord: the history array holds fewer rows than the steps recorded");
   const long h = historyColumnCount * (n - 1);
@@ -590,6 +606,7 @@ long nodal(KN<double> *const &pv, KN<double> *const &pLam, KNM<double> *const &p
   return 0;
 }
 
+long zoneBoundaries(string *const &path) { return writeZoneBoundaries(kernel(), *path); }
 long nodesColumns(string *const &names) { setNodesFileColumns(kernel(), *names); return 0; }
 long closeNodes() { return closeNodesFile(kernel()); }
 long appendNodesBinding(string *const &path, const long &n, const double &t, KN<double> *const &px, KN<double> *const &py,
@@ -674,6 +691,7 @@ static void Load_Init() {
   Global.Add("contactKernelLawProblem", "(", new OneOperator1s_<string *, string *>(lawProblem));
   Global.Add("contactKernelNodeVelocity", "(", new OneOperator1_<long, Matrix>(nodeVelocity));
   Global.Add("contactKernelNodeFrames", "(", new OneOperator2_<long, Table, Array>(nodeFrames));
+  Global.Add("contactKernelNodeEdges", "(", new OneOperator2_<long, Integers, Integers>(nodeEdges));
   Global.Add("contactKernelDampingSlope", "(", new OneOperator1_<long, Array>(dampingSlope));
   Global.Add("contactKernelFactorize", "(", new OneOperator2_<long, Matrix, Matrix>(factorizeS));
   Global.Add("contactKernelFactorizeStep", "(", new OneOperator6_<long, double, double, double, Matrix, Array, Matrix>(factorizeFromProducts));
@@ -704,6 +722,7 @@ static void Load_Init() {
   Global.Add("contactKernelNodesColumns", "(", new OneOperator1_<long, string *>(nodesColumns));
   Global.Add("contactKernelAppendNodes", "(", new OneOperator7_<long, string *, long, double, Array, Array, Array, Table>(appendNodesBinding));
   Global.Add("contactKernelCloseNodes", "(", new OneOperator0<long>(closeNodes));
+  Global.Add("contactKernelZoneBoundaries", "(", new OneOperator1_<long, string *>(zoneBoundaries));
   Global.Add("contactKernelSourcesChanged", "(", new OneOperator1_<long, string *>(sourcesChanged));
 }
 

@@ -37,7 +37,8 @@ namespace contactkernel {
   X(RecordZone0, zoneColumn(0), true) X(RecordZone1, zoneColumn(1), true) X(RecordZone2, zoneColumn(2), true) \
   X(RecordZone3, zoneColumn(3), true) X(RecordZone4, zoneColumn(4), true)                              \
   X(RecordXB, "x_B", false) X(RecordXC, "x_C", false) X(RecordTangentialForce2, "tangential_force2", false) \
-  X(RecordXBEstimate, "x_B_estimate", false) X(RecordXCEstimate, "x_C_estimate", false)
+  X(RecordXBEstimate, "x_B_estimate", false) X(RecordXCEstimate, "x_C_estimate", false)             \
+  X(RecordBoundariesB, "boundaries_B", true) X(RecordBoundariesC, "boundaries_C", true)
 
 #define CONTACTKERNEL_HISTORY_COLUMNS(X)                                                               \
   X(HistoryT, "t", false) X(HistoryIterations, "iterations", true) X(HistoryResidual, "residual", false)

@@ -29,6 +29,8 @@ int setNodes(Kernel &k, int count, const double *x, const double *y, const doubl
 void requireNodes(const Kernel &k, const char *who);
 void setNodeObservation(Kernel &k, const SparseTriplets &O);
 void setNodeFrames(Kernel &k, const std::vector<double> &frames, const double mean[6]);
+// Gamma3's edges: pairs of neighbouring nodes (2D: its boundary edges; 3D: its triangles' edges)
+void setNodeEdges(Kernel &k, const std::vector<long> &a, const std::vector<long> &b);
 // v_nu, v_tau (v_tau2 in 3D) of every node from v, or from the slot velocities cv
 void nodeVelocities(const Kernel &k, const double *v, const std::vector<double> &cv, std::vector<double> &ov);
 
@@ -78,6 +80,9 @@ void setNodesFileColumns(Kernel &k, const std::string &names);
 long appendNodes(Kernel &k, const std::string &path, long n, double t, const double *x, const double *y, const double *z,
                  const std::vector<double> &table);
 long closeNodesFile(Kernel &k);
+// zone_boundaries.txt: the rows the records since recordStart kept, appended to path (the
+// script wrote its header); 1 if it was not written whole
+long writeZoneBoundaries(const Kernel &k, const std::string &path);
 void recordStart(Kernel &k, const double *v0, const double *u0, double *Mv, double *Bu);
 // the record of a step into record (recordColumnCount values); false if the energy balance is not finite
 bool recordStep(Kernel &k, const double *v, const double *u, const double *Lam, const double *f, double *Mv, double *Bu,

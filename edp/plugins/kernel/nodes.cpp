@@ -1,6 +1,7 @@
 // nodes.cpp: the contact nodes of Gamma3 and the law's data (contactlaw.hpp): the parameters
 // by name, the damping family, the nodes with their weights, bounds and slots (checkLaw runs
-// here, when a run starts), the observation v -> (v_nu, v_tau) of every node, its frames (3D).
+// here, when a run starts), the observation v -> (v_nu, v_tau) of every node, its frames (3D),
+// Gamma3's edges and the positions along it.
 #include <algorithm>
 #include <cfloat>
 #include <cmath>
@@ -110,7 +111,7 @@ int setNodes(Kernel &k, int nn, const double *x, const double *y, const double *
     const double position[3] = {x[i], y[i], z[i]};
     g[i] = velocityBound(law.P, position);
   }
-  nodes.x.assign(x, x + nn); nodes.weight.assign(w, w + nn); nodes.g = g;
+  nodes.x.assign(x, x + nn); nodes.y.assign(y, y + nn); nodes.z.assign(z, z + nn); nodes.weight.assign(w, w + nn); nodes.g = g;
   nodes.normalSlot.assign(ns, ns + nn); nodes.tangentSlot.assign(ts, ts + nn); nodes.tangentSlot2.assign(ts2, ts2 + nn);
   nodes.slotWeight.assign(slots, 0.);
   law.resize(slots);
@@ -166,6 +167,80 @@ void setNodeFrames(Kernel &k, const std::vector<double> &frames, const double me
   if (frames.size() != 9 * (size_t)k.nodes.count()) kernelError("contactKernelNodeFrames: one row of 9 per node and 6 values expected");
   k.nodes.frame = frames;
   for (int c = 0; c < 3; c++) { k.nodes.meanT1[c] = mean[c]; k.nodes.meanT2[c] = mean[3 + c]; }
+}
+
+// Gamma3's edges, the pairs (a[e], b[e]) of neighbouring nodes (in either order, repeated or
+// not): kept sorted, each once, with each node's neighbours. The positions along Gamma3 (2D)
+// are the figures' arc length (plots/gamma3.py, boundary_arc_length): a walk along the edges
+// from the end of smallest (x, y) (a node of one neighbour; a closed curve: its node of
+// smallest (x, y)) to its unvisited neighbour (of smallest number), and on, the position
+// growing by each edge's length; the next piece starts at its own end of smallest (x, y), the
+// position going on by the straight distance across the gap: on a flat face, s = x - x of its
+// first node. An edge the walk did not follow (the one that closes a closed curve) has its
+// second end one edge's length further than its first, the end of larger position.
+void setNodeEdges(Kernel &k, const std::vector<long> &a, const std::vector<long> &b) {
+  requireNodes(k, "contactKernelNodeEdges");
+  ContactNodes &nodes = k.nodes;
+  const int nn = nodes.count();
+  if (a.size() != b.size()) kernelError("contactKernelNodeEdges: as many second nodes as first nodes expected");
+  std::vector<std::pair<int, int>> pairs;
+  for (size_t e = 0; e < a.size(); e++) {
+    if (a[e] < 0 || a[e] >= nn || b[e] < 0 || b[e] >= nn || a[e] == b[e])
+      kernelError("contactKernelNodeEdges: an edge joins two different nodes, numbered 0 .. nodes-1");
+    pairs.push_back({(int)std::min(a[e], b[e]), (int)std::max(a[e], b[e])});
+  }
+  std::sort(pairs.begin(), pairs.end());
+  pairs.erase(std::unique(pairs.begin(), pairs.end()), pairs.end());
+  const int ne = (int)pairs.size();
+  nodes.edgeA.resize(ne); nodes.edgeB.resize(ne);
+  nodes.neighbourStart.assign(nn + 1, 0);
+  for (int e = 0; e < ne; e++) {
+    nodes.edgeA[e] = pairs[e].first; nodes.edgeB[e] = pairs[e].second;
+    nodes.neighbourStart[pairs[e].first + 1]++; nodes.neighbourStart[pairs[e].second + 1]++;
+  }
+  for (int i = 0; i < nn; i++) nodes.neighbourStart[i + 1] += nodes.neighbourStart[i];
+  nodes.neighbour.assign(2 * ne, -1);
+  std::vector<int> fill(nodes.neighbourStart.begin(), nodes.neighbourStart.end() - 1);
+  for (int e = 0; e < ne; e++) {
+    nodes.neighbour[fill[pairs[e].first]++] = pairs[e].second;
+    nodes.neighbour[fill[pairs[e].second]++] = pairs[e].first;
+  }
+  for (int i = 0; i < nn; i++) std::sort(nodes.neighbour.begin() + nodes.neighbourStart[i], nodes.neighbour.begin() + nodes.neighbourStart[i + 1]);
+  std::vector<double> arc(nn, 0.);
+  std::vector<int> from(nn, -1);                 // the node the walk came from (-1: a piece's start)
+  std::vector<char> visited(nn, 0);
+  std::vector<int> order(nn);                    // the nodes by (x, y)
+  for (int i = 0; i < nn; i++) order[i] = i;
+  std::sort(order.begin(), order.end(),
+            [&](int i, int j) { return std::make_pair(nodes.x[i], nodes.y[i]) < std::make_pair(nodes.x[j], nodes.y[j]); });
+  double s = 0;
+  int last = -1;
+  for (size_t end = 0, any = 0;;) {              // (in the order of (x, y): the first unvisited end, else node)
+    while (end < order.size() && (visited[order[end]] || nodes.neighbours(order[end]) != 1)) end++;
+    while (any < order.size() && visited[order[any]]) any++;
+    if (any == order.size()) break;
+    int at = end < order.size() ? order[end] : order[any];
+    if (last >= 0) s += nodes.distance(last, at);
+    visited[at] = 1; arc[at] = s;
+    for (;;) {
+      int next = -1;
+      for (int p = nodes.neighbourStart[at]; p < nodes.neighbourStart[at + 1] && next < 0; p++)
+        if (!visited[nodes.neighbour[p]]) next = nodes.neighbour[p];
+      if (next < 0) break;
+      s += nodes.distance(at, next);
+      visited[next] = 1; arc[next] = s; from[next] = at;
+      at = next;
+    }
+    last = at;
+  }
+  nodes.edgeS.resize(2 * (size_t)ne);
+  for (int e = 0; e < ne; e++) {
+    const int i = nodes.edgeA[e], j = nodes.edgeB[e];
+    if (from[i] == j || from[j] == i) { nodes.edgeS[2 * e] = arc[i]; nodes.edgeS[2 * e + 1] = arc[j]; continue; }
+    const bool iFirst = arc[i] >= arc[j];        // not walked: from the end of larger position on
+    nodes.edgeS[2 * e + (iFirst ? 0 : 1)] = std::max(arc[i], arc[j]);
+    nodes.edgeS[2 * e + (iFirst ? 1 : 0)] = std::max(arc[i], arc[j]) + nodes.distance(i, j);
+  }
 }
 
 void nodeVelocities(const Kernel &k, const double *v, const std::vector<double> &cv, std::vector<double> &ov) {

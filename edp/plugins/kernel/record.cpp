@@ -1,7 +1,8 @@
 // record.cpp: what the kernel reports, from the statuses of contactlaw.hpp: the nodal table of
 // a step (contactKernelNodal: contact.txt and the end-of-run checks), the rows of
 // contact_nodes_history.txt in the columns the script names, and the record of a step (the
-// energy terms of history.txt, the forces, zones, x_B and x_C of contact_history.txt).
+// energy terms of history.txt, the forces, zones, x_B and x_C of contact_history.txt, the rows
+// of zone_boundaries.txt).
 #include <algorithm>
 #include <cmath>
 #include <sstream>
@@ -34,28 +35,44 @@ NodeValues nodeValues(const Kernel &k, int i, const double *ov, const double *La
   s.tangential = tangentialStatus(rows == 3 ? std::hypot(s.vt, s.vt2) : s.vt, nodes.g[i]);
   return s;
 }
-// The zone boundaries between the nodes (2D, Gamma3 ordered by x), from the law's switching
-// functions (contactlaw.hpp: boundSwitch, slipSwitch; >= 0 on the piece, < 0 next to it):
+// The law's switching functions at every node (contactlaw.hpp: boundSwitch, slipSwitch; >= 0
+// on the piece, < 0 next to it): bound, boundSwitch (the piece: at the bound); stick,
+// -slipSwitch of the lengths |lambda_tau|, |v_tau| (the piece: stick), nan off contact (normal
+// status 0), where there is neither slip nor stick.
+struct Switches {
+  std::vector<double> bound, stick;
+};
+void nodeSwitches(const Parameters &P, const NodeValues &s, double g, double &bound, double &stick) {
+  bound = boundSwitch(P, s.pn, s.vn, g);
+  stick = s.normal > 0 ? -slipSwitch(P, std::hypot(s.lt, s.lt2), std::hypot(s.vt, s.vt2), s.vn, g) : NAN;
+}
+// the zero between a and b of the line through (a, fa), (b, fb)
+double crossing(double a, double fa, double b, double fb) { return a + (b - a) * (-fa) / (fb - fa); }
+// Where the bound begins between a node off it (at position aOff, switching function fOff < 0)
+// and its neighbour at it (aOn, fOn >= 0), positions along Gamma3: the velocity reaches g
+// tangentially (v_nu - g is quadratic on the damped side, as the gap of an obstacle problem),
+// while the bound's multiplier grows linearly from 0, so the zero of the straight line through
+// the switching function at the node at the bound and at its next neighbour beyond it (aBeyond,
+// fBeyond) when that one is further into the bound (fBeyond > fOn; nan: no such neighbour),
+// otherwise the crossing between the two; kept between aOff and aOn.
+double boundStart(double aOff, double fOff, double aOn, double fOn, double aBeyond, double fBeyond) {
+  const double at = fBeyond > fOn ? crossing(aOn, fOn, aBeyond, fBeyond) : crossing(aOff, fOff, aOn, fOn);
+  return std::min(std::max(at, std::min(aOff, aOn)), std::max(aOff, aOn));
+}
+
+// x_B_estimate, x_C_estimate: the first zone boundaries between the nodes (2D, Gamma3 ordered
+// by x), from the switching functions f:
 // - x_C, where sticking begins: the slip velocity falls to 0 linearly and the stick margin
 //   grows linearly from 0, so the switching function is linear across the boundary: its
 //   zero between the first sticking node and its neighbour of next smaller x;
-// - x_B, where the bound begins: the velocity reaches g tangentially (v_nu - g is quadratic
-//   on the damped side, as the gap of an obstacle problem), while the bound's multiplier grows
-//   linearly from 0: the zero of the straight line through the switching function at the first
-//   two nodes at the bound, kept between the first and its neighbour off the bound (the
-//   crossing between those two, where there is no second node at the bound).
+// - x_B, where the bound begins: boundStart between the first node at the bound and its
+//   neighbour of next smaller x, with its neighbour of next larger x beyond it.
 // The node's own x where no crossing is found; 1e300 where the zone does not exist, and in 3D.
-void zoneEstimates(const Kernel &k, const double *ov, const double *Lam, double xB, double xC, double &estimateB, double &estimateC) {
+void zoneEstimates(const Kernel &k, const Switches &f, double xB, double xC, double &estimateB, double &estimateC) {
   const ContactNodes &nodes = k.nodes;
-  const Parameters &P = k.law.P;
   estimateB = 1e300; estimateC = 1e300;
   if (!nodes.frame.empty()) return;
   const int nn = nodes.count();
-  auto boundValue = [&](int i) { const NodeValues s = nodeValues(k, i, ov, Lam); return boundSwitch(P, s.pn, s.vn, nodes.g[i]); };
-  auto stickValue = [&](int i) {                     // stick is the piece: -slipSwitch, in contact only
-    const NodeValues s = nodeValues(k, i, ov, Lam);
-    return s.normal > 0 ? -slipSwitch(P, std::fabs(s.lt), std::fabs(s.vt), s.vn, nodes.g[i]) : NAN;
-  };
   // the node at x (the zone's first) and its neighbours of next smaller and next larger x (-1: none)
   auto around = [&](double x, int &at, int &left, int &right) {
     at = -1; left = -1; right = -1;
@@ -65,25 +82,61 @@ void zoneEstimates(const Kernel &k, const double *ov, const double *Lam, double 
       if (nodes.x[i] > x && (right < 0 || nodes.x[i] < nodes.x[right])) right = i;
     }
   };
-  // the zero between a < b of the line through (a, fa), (b, fb)
-  auto crossing = [](double a, double fa, double b, double fb) { return a + (b - a) * (-fa) / (fb - fa); };
   int at = -1, left = -1, right = -1;
   if (xB < 1e300) {
     around(xB, at, left, right);
     estimateB = xB;
-    const double f = at >= 0 ? boundValue(at) : NAN, fLeft = left >= 0 ? boundValue(left) : NAN;
-    const double fRight = right >= 0 ? boundValue(right) : NAN;
-    if (left >= 0 && f >= 0 && fLeft < 0) {          // a neighbour off the bound: the crossing is between them
-      estimateB = fRight > f ? crossing(xB, f, nodes.x[right], fRight)    // the line through the two at the bound
-                             : crossing(nodes.x[left], fLeft, xB, f);
-      estimateB = std::min(std::max(estimateB, nodes.x[left]), xB);
-    }
+    const double fAt = at >= 0 ? f.bound[at] : NAN, fLeft = left >= 0 ? f.bound[left] : NAN;
+    const double fRight = right >= 0 ? f.bound[right] : NAN;
+    if (left >= 0 && fAt >= 0 && fLeft < 0)          // a neighbour off the bound: the crossing is between them
+      estimateB = boundStart(nodes.x[left], fLeft, xB, fAt, right >= 0 ? nodes.x[right] : NAN, fRight);
   }
   if (xC < 1e300) {
     around(xC, at, left, right);
     estimateC = xC;
-    const double f = at >= 0 ? stickValue(at) : NAN, fLeft = left >= 0 ? stickValue(left) : NAN;
-    if (f >= 0 && fLeft < 0) estimateC = crossing(nodes.x[left], fLeft, xC, f);
+    const double fAt = at >= 0 ? f.stick[at] : NAN, fLeft = left >= 0 ? f.stick[left] : NAN;
+    if (fAt >= 0 && fLeft < 0) estimateC = crossing(nodes.x[left], fLeft, xC, fAt);
+  }
+}
+
+// The zone boundaries on Gamma3's edges (zone_boundaries.txt): on every edge of
+// contactKernelNodeEdges whose two nodes' switching function has opposite signs (one < 0, the
+// other >= 0; nan at either end: none), the point where it vanishes, kind 1 for the bound (B),
+// 2 for stick (C). 2D: the bound's start by boundStart (the node beyond the one at the bound:
+// its other neighbour, where it has two), stick's by the straight line between the two nodes,
+// both along the edge; s, the position along Gamma3, interpolated between its ends'. 3D: the
+// straight line between the two nodes for both (the rows trace the boundary curve on the
+// face), s nan. The rows of a step: kind 1, then 2; each by s in 2D, by edge in 3D. Kept in
+// the record (written at the end: formatting them at every step would cost more than
+// finding them); counted into countB, countC.
+void zoneBoundaryRows(Kernel &k, const Switches &f, long step, long &countB, long &countC) {
+  const ContactNodes &nodes = k.nodes;
+  const bool curve = nodes.frame.empty();
+  std::vector<ZoneBoundary> &rows = k.record.boundaries;
+  for (int kind = 1; kind <= 2; kind++) {
+    const std::vector<double> &value = kind == 1 ? f.bound : f.stick;
+    const size_t first = rows.size();
+    for (size_t e = 0; e < nodes.edgeA.size(); e++) {
+      const int a = nodes.edgeA[e], b = nodes.edgeB[e];
+      if (std::isnan(value[a]) || std::isnan(value[b]) || (value[a] < 0) == (value[b] < 0)) continue;
+      const bool aOff = value[a] < 0;
+      const int off = aOff ? a : b, on = aOff ? b : a;
+      double theta = crossing(0, value[off], 1, value[on]);   // from off (0) to on (1)
+      if (kind == 1 && curve) {
+        int beyond = -1;
+        if (nodes.neighbours(on) == 2)
+          for (int p = nodes.neighbourStart[on]; p < nodes.neighbourStart[on + 1]; p++)
+            if (nodes.neighbour[p] != off) beyond = nodes.neighbour[p];
+        theta = boundStart(0, value[off], 1, value[on], beyond >= 0 ? 1 + nodes.distance(on, beyond) / nodes.distance(off, on) : NAN,
+                           beyond >= 0 ? value[beyond] : NAN);
+      }
+      const double sOff = nodes.edgeS[2 * e + (aOff ? 0 : 1)], sOn = nodes.edgeS[2 * e + (aOff ? 1 : 0)];
+      rows.push_back({step, kind, curve ? sOff + theta * (sOn - sOff) : NAN, nodes.x[off] + theta * (nodes.x[on] - nodes.x[off]),
+                      nodes.y[off] + theta * (nodes.y[on] - nodes.y[off]), nodes.z[off] + theta * (nodes.z[on] - nodes.z[off])});
+    }
+    if (curve)
+      std::stable_sort(rows.begin() + first, rows.end(), [](const ZoneBoundary &p, const ZoneBoundary &q) { return p.s < q.s; });
+    (kind == 1 ? countB : countC) = (long)(rows.size() - first);
   }
 }
 }  // namespace
@@ -181,6 +234,21 @@ long appendNodes(Kernel &k, const std::string &path, long n, double t, const dou
   return f ? 0 : 1;
 }
 
+// ---------------------------------------------------------------- zone_boundaries.txt
+// The rows the records kept (zoneBoundaryRows), appended to path (the script wrote the header),
+// 17 digits; t = step dt, as the history's. 1 if the file was not written whole.
+long writeZoneBoundaries(const Kernel &k, const std::string &path) {
+  std::ofstream f(path, std::ios::app);
+  f.precision(17);
+  for (const ZoneBoundary &r : k.record.boundaries) {
+    f << r.step << " " << r.step * k.settings.dt << " " << r.kind << " ";
+    if (std::isnan(r.s)) f << "nan"; else f << r.s + 0.;
+    f << " " << r.x + 0. << " " << r.y + 0. << " " << r.z + 0. << "\n";
+  }
+  f.close();
+  return f.fail() ? 1 : 0;
+}
+
 // ---------------------------------------------------------------- the record of a step
 void recordStart(Kernel &k, const double *v0, const double *u0, double *Mv, double *Bu) {
   requireNodes(k, "contactKernelRecordStart");
@@ -202,14 +270,17 @@ void recordStart(Kernel &k, const double *v0, const double *u0, double *Mv, doub
   record.energyOld = kinetic + elastic;
   record.generation = k.factor.generation;
   record.step = 0;
+  record.boundaries.clear();
 }
 
 // In: v = v_n, u = u_n, Lam (total contact stress per slot), f = f_n (the load of the step),
 // Mv = M v_{n-1}, Bu = B u_{n-1}. Out: Mv = M v_n and Bu = B u_n (for the next right-hand
 // side) and rec, the columns "record" of columns.hpp: the energy terms, the forces, the zone
-// counts, x_B and x_C (1e300 for one that does not exist); the tangential forces sum W lambda_tau
-// and W lambda_tau2 in 2D (the second 0), and in 3D are the vector sum of
-// W (lambda_tau t1 + lambda_tau2 t2) on Gamma3's mean frame T1, T2. The discrete energy balance
+// counts, x_B and x_C (1e300 for one that does not exist), their estimates, the counts of the
+// zone boundaries on Gamma3's edges (their rows kept for writeZoneBoundaries, the step numbered
+// on after step_offset); the tangential forces sum W lambda_tau and W lambda_tau2 in 2D (the
+// second 0), and in 3D are the vector sum of W (lambda_tau t1 + lambda_tau2 t2) on Gamma3's
+// mean frame T1, T2. The discrete energy balance
 // (docs/design.md, section "Energy identity"), test function w = v_n:
 //   E_n - E_{n-1} + 1/2 m(v_n - v_{n-1}) + k^2/2 b(v_n) + k a(v_n) + k (C'W Lam)'v_n = k f_n'v_n
 bool recordStep(Kernel &kernel, const double *pv0, const double *pu0, const double *Lam, const double *pf0, double *pMv0,
@@ -248,8 +319,11 @@ bool recordStep(Kernel &kernel, const double *pv0, const double *pu0, const doub
   nodeVelocities(kernel, pv0, cv, ov);
   double normalForce = 0, tangentialForce = 0, tangentialForce2 = 0, xB = 1e300, xC = 1e300;
   long zones[zoneCount] = {};
+  Switches switches;
+  switches.bound.resize(nodes.count()); switches.stick.resize(nodes.count());
   for (int i = 0; i < nodes.count(); i++) {
     const NodeValues s = nodeValues(kernel, i, ov.data(), Lam);
+    nodeSwitches(kernel.law.P, s, nodes.g[i], switches.bound[i], switches.stick[i]);
     zones[zone(s.normal, s.tangential)]++;
     if (marksB(s.normal, s.tangential)) xB = std::min(xB, nodes.x[i]);
     if (marksC(s.normal, s.tangential)) xC = std::min(xC, nodes.x[i]);
@@ -270,7 +344,11 @@ bool recordStep(Kernel &kernel, const double *pv0, const double *pu0, const doub
   rec[RecordNormalForce] = normalForce; rec[RecordTangentialForce] = tangentialForce;
   for (int z = 0; z < zoneCount; z++) rec[RecordZone0 + z] = zones[z];
   rec[RecordXB] = xB; rec[RecordXC] = xC; rec[RecordTangentialForce2] = tangentialForce2;
-  zoneEstimates(kernel, ov.data(), Lam, xB, xC, rec[RecordXBEstimate], rec[RecordXCEstimate]);
+  zoneEstimates(kernel, switches, xB, xC, rec[RecordXBEstimate], rec[RecordXCEstimate]);
+  const long step = kernel.settings.stepOffset + ++record.step;   // (steps numbered on after a restart)
+  long countB = 0, countC = 0;
+  zoneBoundaryRows(kernel, switches, step, countB, countC);
+  rec[RecordBoundariesB] = countB; rec[RecordBoundariesC] = countC;
   return std::isfinite(balance);
 }
 

@@ -11,11 +11,13 @@
 //   products.cpp       M, A, B merged; their products
 //   newton.cpp         the semismooth Newton of a step and its safeguards
 //   fixedpoint.cpp     the projected Gauss-Seidel of a step
-//   record.cpp         the nodal table, the record of a step, contact_nodes_history.txt's rows
+//   record.cpp         the nodal table, the record of a step, contact_nodes_history.txt's and
+//                      zone_boundaries.txt's rows
 // No module includes FreeFEM's headers but bindings.cpp: the others see plain arrays.
 #ifndef CONTACTKERNEL_STATE_HPP
 #define CONTACTKERNEL_STATE_HPP
 #include <cholmod.h>
+#include <cmath>
 #include <cstddef>
 #include <fstream>
 #include <string>
@@ -48,7 +50,7 @@ struct SparseRows {
 
 // ---------------------------------------------------------------- the contact nodes
 struct ContactNodes {
-  std::vector<double> x, weight, g;                       // per node: x, w, the velocity bound g
+  std::vector<double> x, y, z, weight, g;                 // per node: x, y, z (0 in 2D), w, the velocity bound g
   std::vector<int> observeStart, observeColumn;          // v -> v_nu, v_tau per node (CSR)
   std::vector<double> observeValue;
   int observeWidth = 0;                                  // the observation's columns: its largest + 1
@@ -57,9 +59,19 @@ struct ContactNodes {
   std::vector<double> frame;                   // 3D: per node n, t1, t2 (9 values), and Gamma3's mean
   double meanT1[3] = {0, 0, 0}, meanT2[3] = {0, 0, 0};   // frame T1, T2 (contactKernelNodeFrames)
   std::vector<double> slotWeight;              // W per slot: its node's weight
+  // Gamma3's edges (contactKernelNodeEdges): the pairs of neighbouring nodes a < b, sorted,
+  // each once (2D: its boundary edges; 3D: the edges of its triangles); each node's neighbours
+  // (CSR, ascending); and the positions along Gamma3 of each edge's two ends (2D: arc length
+  // from Gamma3's first node, setNodeEdges; not used in 3D)
+  std::vector<int> edgeA, edgeB, neighbourStart, neighbour;
+  std::vector<double> edgeS;                   // 2 per edge: the position of a, of b
   bool ready = false;                          // set by contactKernelNodes, reset by a law parameter
   std::string lawProblem;                      // why checkLaw refused the law (contactKernelNodes returned 1)
   int count() const { return (int)x.size(); }
+  int neighbours(int i) const { return neighbourStart.empty() ? 0 : neighbourStart[i + 1] - neighbourStart[i]; }
+  double distance(int i, int j) const {        // between nodes i and j
+    return std::sqrt((x[j] - x[i]) * (x[j] - x[i]) + (y[j] - y[i]) * (y[j] - y[i]) + (z[j] - z[i]) * (z[j] - z[i]));
+  }
 };
 
 struct SolverSettings {
@@ -164,11 +176,19 @@ struct ProductMatrices {
 };
 
 // ---------------------------------------------------------------- the record of the steps
+// a zone boundary located on an edge of Gamma3 (zone_boundaries.txt): its step, kind (1 B, 2 C),
+// position along Gamma3 (2D; nan in 3D) and point
+struct ZoneBoundary {
+  long step;
+  int kind;
+  double s, x, y, z;
+};
 struct EnergyRecord {
   std::vector<double> vOld, Mv, Av, Bv;  // v_{n-1}; workspace
   double energyOld = 0;                  // kinetic + elastic of the previous step
   long generation = -1;                  // the factor (Factorization::generation) the record started with
-  long step = 0;                         // the steps recorded into the history array
+  long step = 0;                         // the steps recorded since recordStart
+  std::vector<ZoneBoundary> boundaries;  // those of every step recorded since recordStart
 };
 // the script's arrays each record writes a row into (contactKernelHistory; bindings.cpp)
 struct HistoryArrays { KN<double> *info = nullptr, *rows = nullptr; };

@@ -235,7 +235,8 @@ def work_precision_table(bench, reference):
                        "estimate_error_x_B, estimate_error_x_C: the run's own estimates of its errors (summary.txt",
                        "error_estimate_v_L2, error_estimate_normal_force, error_estimate_x_B, error_estimate_x_C; nan when",
                        "absent; the first two relative), read against relative_error_L2, relative_error_normal_force,",
-                       "error_x_B_estimate, error_x_C_estimate"],
+                       "error_x_B_estimate, error_x_C_estimate on the uniform and adapted meshes only (families mesh,",
+                       "adapt1, adapt2: a run estimates its error in space, not the time, eps, tol or solver error)"],
                       columns, rows)
     return columns, rows
 

@@ -157,7 +157,7 @@ def nodes_in_panels(axes, run, color, name):
 
 ESTIMATES = (("error_estimate_v_L2", "v", "{:.1e} (relative L$^2$)"),
              ("error_estimate_normal_force", "normal force", "{:.1e} (relative)"),
-             ("error_estimate_x_B", "$x_B$ estimate", "{:.1e} m"), ("error_estimate_x_C", "$x_C$ estimate", "{:.1e} m"))
+             ("error_estimate_x_B", "$x_B$", "$\\pm${:.1e} m (rough)"), ("error_estimate_x_C", "$x_C$", "$\\pm${:.1e} m (rough)"))
 
 
 def estimate_note(run):
@@ -176,13 +176,13 @@ def estimate_note(run):
             raise runfiles.InputError(f"{summary.source}: {key} is not a number") from None
         if np.isinf(value) or value < 0:
             raise runfiles.InputError(f"{summary.source}: {key} is {value}, not an error")
-        if np.isfinite(value):
-            shown.append(f"{name} {form.format(value)}")
+        if np.isfinite(value):                        # (no break inside an item)
+            shown.append(f"{name} {form.format(value)}".replace(" ", "\u00a0"))
     if not shown:
         text = f"error estimates: none ({source.removeprefix('none: ')})"
     else:
         text = f"estimated error in space ({source.split(',')[0].split(' (')[0]}): {', '.join(shown)}"
-    return "\n".join(textwrap.wrap(text, 110))
+    return "\n".join(textwrap.wrap(text, 110, break_long_words=False)).replace("\u00a0", " ")
 
 
 def contact_at_T(run):

@@ -71,6 +71,19 @@ for mu in 0.4 1; do
     && { "$PYTHON" tests/check_results.py "$work/hard-halfdisk-$mu-plain" --compare "$work/hard-halfdisk-$mu" --rtol 1e-9 >> "$diag" 2>&1 || { echo "halfdisk -mu $mu: not plain Newton's outputs to 1e-9" >> "$diag"; status=1; }; }
 done
 report $status "hard bodies, 2D: the half disk at Newton's defaults (mu 0.4, 1): at most 30 iterations a step, physics checks, plain Newton's outputs to 1e-9" "$diag"
+# The fixed point on the half disk (two levels: fixedpoint.cpp), mu 0.4 and 1, T = 0.3, at its
+# defaults: exit 0, at most 200 iterations in any step (the target; about 60 and 105 here),
+# the physics checks, and Newton's outputs (the runs above) to 1e-9
+diag="$work/hard-fixedpoint.diag"; : > "$diag"; status=0
+for mu in 0.4 1; do
+  [ -f "$work/hard-halfdisk-$mu/summary.txt" ] || { echo "no Newton run of mu $mu to compare with" >> "$diag"; status=1; continue; }
+  hard "halfdisk-$mu-fixedpoint" -scene halfdisk -mu "$mu" -T 0.3 -solver fixedpoint || continue
+  most="$(awk '$1 == "iterations_max" { print $2 }' "$work/hard-halfdisk-$mu-fixedpoint/summary.txt")"
+  [ -n "$most" ] && [ "$most" -le 200 ] || { echo "halfdisk -mu $mu, fixed point: $most iterations in a step (at most 200 expected)" >> "$diag"; status=1; }
+  "$PYTHON" tests/check_results.py "$work/hard-halfdisk-$mu-fixedpoint" --compare "$work/hard-halfdisk-$mu" --rtol 1e-9 >> "$diag" 2>&1 \
+    || { echo "halfdisk -mu $mu: the fixed point's outputs are not Newton's to 1e-9" >> "$diag"; status=1; }
+done
+report $status "hard bodies, 2D: the fixed point on the half disk at its defaults (mu 0.4, 1): at most 200 iterations a step, physics checks, Newton's outputs to 1e-9" "$diag"
 diag="$work/hard-3d.diag"; : > "$diag"; status=0
 for body in twisted3d sloped3d; do
   for mu in 0.7 1; do

@@ -10,6 +10,17 @@
 // partner's current velocity for its bound. No parameter to tune: rho_j is exact.
 // The map G of one iteration is a forward sweep then a backward one (symmetric Gauss-Seidel);
 // contactKernelFixedPoint accelerates it (Anderson), and Newton falls back on it.
+//
+// Two levels (2D): a body that holds a motion by its mass alone (the half disk of
+// docs/stability.md, "Hard bodies") gives Dw one eigenvalue thousands of times the next; every
+// slot's Dw_jj is then that motion's, and the sweeps crawl. When the largest gap between the
+// top eigenvalues of Dw (made symmetric by the weights) exceeds coarseGap, the K modes above it
+// are split off: Dw = D' + sum_k delta_k P_k Q_k', D' keeping them at the first eigenvalue below
+// the gap. The sweeps run on D' with the modes' velocity a held (c = cFree - P a - D' m); after
+// each iteration a Newton step on the K equations a = delta Q'm, whose Jacobian is the
+// linearized response of every slot's relation (the law's relations(), as Newton's), moves a
+// and m together, shortened until the natural residual falls. In 3D (the disk) this did not
+// converge on the twisted and sloped blocks, which keep the one-level iteration.
 #include <algorithm>
 #include <cmath>
 #include "blas.hpp"
@@ -50,12 +61,14 @@ void fixedPointDisk(Kernel &k, int j, int q, double *c, double *m) {
   if (deltaQ != 0) daxpy_(&nc, &minusQ, factor.Dw.data() + (size_t)q * nc, &inc, c, &inc);
 }
 
-// one sweep over the slots, forward or backward; c = cFree - Dw m follows m
-void fixedPointSweep(Kernel &k, bool forward, double *c, double *m) {
+// one sweep over the slots, forward or backward, on Dw (or, two levels, on D' with its own
+// local augmentations); c = cFree - D m follows m
+void fixedPointSweep(Kernel &k, bool forward, double *c, double *m, const double *D = nullptr, const double *rho = nullptr) {
   const Factorization &factor = k.factor;
   FixedPointState &fixedPoint = k.fixedPoint;
   const contactlaw::Slots &law = k.law;
   const int nc = factor.nc, inc = 1;
+  if (!D) { D = factor.Dw.data(); rho = fixedPoint.rho.data(); }
   for (int step = 0; step < nc; step++) {
     const int j = forward ? step : nc - 1 - step;
     const int q = law.pair[j];
@@ -63,11 +76,11 @@ void fixedPointSweep(Kernel &k, bool forward, double *c, double *m) {
       if (forward ? q > j : q < j) fixedPointDisk(k, j, q, c, m);
       continue;
     }
-    const double *column = factor.Dw.data() + (size_t)j * nc;
+    const double *column = D + (size_t)j * nc;
     const double y = m[j] + c[j] / column[j];
     double t = 0, v = 0;
-    law.resolve(j, y, fixedPoint.rho[j], c, t, v);
-    const double cj = (y - t) / fixedPoint.rho[j];
+    law.resolve(j, y, rho[j], c, t, v);
+    const double cj = (y - t) / rho[j];
     const double delta = fixedPoint.omega * (t - law.Kn[j] * cj - m[j]);
     if (delta == 0) continue;
     m[j] += delta;
@@ -77,6 +90,180 @@ void fixedPointSweep(Kernel &k, bool forward, double *c, double *m) {
   fixedPoint.sweeps++;
 }
 
+
+// The end of a step of either fixed point: the user's augmentations back, c and m out, the
+// solver's info; the iterations, or -1 if the step did not converge
+long fixedPointFinish(Kernel &k, const std::vector<double> &userR, const std::vector<double> &c, const std::vector<double> &m,
+                      double residual, int it, int unresolved, bool stalled, bool done, double *cInOut, double *mInOut,
+                      double info[solverInfoColumnCount]) {
+  for (int j = 0; j < k.factor.nc; j++) k.law.setAugmentation(j, userR[j]);
+  std::copy(c.begin(), c.end(), cInOut);
+  std::copy(m.begin(), m.end(), mInOut);
+  info[InfoResidual] = residual; info[InfoIterations] = it; info[InfoUnresolved] = unresolved; info[InfoStalled] = stalled;
+  return done ? it : -1;
+}
+
+// The two levels (see the head of this file): K and the split of Dw, once per Delassus matrix.
+// K = 0 (one level) in 3D, and where no gap between the top eigenvalues exceeds coarseGap.
+const int coarseModesMax = 8;                        // at most this many modes split off
+const double coarseGap = 10;                         // ... when the gap is above this ratio
+void coarsePrepare(Kernel &k) {
+  FixedPointState &fp = k.fixedPoint;
+  const Factorization &factor = k.factor;
+  if (fp.coarseGeneration == factor.delassusGeneration) return;
+  fp.coarseGeneration = factor.delassusGeneration;
+  fp.K = 0;
+  const int nc = factor.nc;
+  bool disk = false;
+  for (int j = 0; j < nc; j++) disk = disk || k.law.pair[j] >= 0;
+  if (disk || nc < 2) return;
+  const std::vector<double> &w = k.nodes.slotWeight, &Dw = factor.Dw;
+  // W^1/2 Dw W^-1/2 = W^1/2 C S^-1 C' W^1/2, symmetric (up to round-off: averaged)
+  std::vector<double> A((size_t)nc * nc), eig(nc);
+  for (int j = 0; j < nc; j++) for (int i = 0; i < nc; i++)
+    A[i + (size_t)j * nc] = 0.5 * (std::sqrt(w[i] / w[j]) * Dw[i + (size_t)j * nc] + std::sqrt(w[j] / w[i]) * Dw[j + (size_t)i * nc]);
+  int lwork = -1, info = 0;
+  double query = 0;
+  dsyev_("V", "U", &nc, A.data(), &nc, eig.data(), &query, &lwork, &info);
+  lwork = std::max(1, (int)query);
+  std::vector<double> work(lwork);
+  dsyev_("V", "U", &nc, A.data(), &nc, eig.data(), work.data(), &lwork, &info);
+  if (info != 0) return;
+  int K = 0;
+  double gap = 0;
+  for (int kk = 1; kk <= std::min(coarseModesMax, nc - 1); kk++) {     // eig ascending: the top is eig[nc - 1]
+    const double ratio = eig[nc - kk] / std::max(eig[nc - kk - 1], 1e-300 * eig[nc - 1]);
+    if (ratio > gap) { gap = ratio; K = kk; }
+  }
+  if (!(gap > coarseGap)) return;
+  const double below = eig[nc - K - 1];
+  fp.K = K;
+  fp.delta.assign(K, 0.); fp.P.assign((size_t)K * nc, 0.); fp.Q.assign((size_t)K * nc, 0.);
+  fp.deflated = Dw;
+  for (int kk = 0; kk < K; kk++) {
+    fp.delta[kk] = eig[nc - 1 - kk] - below;
+    const double *u = A.data() + (size_t)(nc - 1 - kk) * nc;
+    double *P = fp.P.data() + (size_t)kk * nc, *Q = fp.Q.data() + (size_t)kk * nc;
+    for (int i = 0; i < nc; i++) { P[i] = u[i] / std::sqrt(w[i]); Q[i] = u[i] * std::sqrt(w[i]); }
+    for (int j = 0; j < nc; j++) for (int i = 0; i < nc; i++) fp.deflated[i + (size_t)j * nc] -= fp.delta[kk] * P[i] * Q[j];
+  }
+  fp.rhoDeflated.assign(nc, 0.);
+  for (int j = 0; j < nc; j++) {
+    const double djj = fp.deflated[j + (size_t)j * nc];
+    fp.rhoDeflated[j] = std::max(1. / djj - k.law.Kn[j], 1e-3 / djj);
+  }
+}
+
+// The coarse correction after an iteration's sweeps: G = a - delta Q'm, the Newton step
+// da = J^-1 G with J = I - diag(delta) Q'X, X = dm/da the response of every slot's relation
+// (row j: sum d dm - sum a D' dm = sum a P da, the relations of the law at the current pieces);
+// a -= t da and m -= t X da, t = 1, 1/2, ... 1/1024, the first that lowers the natural
+// residual; if none does, a = delta Q'm (the coarse velocity the sweeps then hold is m's own).
+// c = cFree - Dw m after it. Returns the natural residual at (c, m).
+double coarseCorrection(Kernel &k, const double *cFree, double *c, double *m, std::vector<double> &a) {
+  FixedPointState &fp = k.fixedPoint;
+  contactlaw::Slots &law = k.law;
+  const int nc = k.factor.nc, K = fp.K, T = contactlaw::Slots::termsPerRelation;
+  auto coarseOf = [&](const double *mm, std::vector<double> &out) {
+    for (int kk = 0; kk < K; kk++) {
+      double sum = 0;
+      for (int j = 0; j < nc; j++) sum += fp.Q[(size_t)kk * nc + j] * mm[j];
+      out[kk] = fp.delta[kk] * sum;
+    }
+  };
+  velocities(k, cFree, m, c);
+  const double before = law.evaluate(c, m);
+  law.relations(c);
+  std::vector<double> G(K), N((size_t)nc * nc, 0.), X((size_t)nc * K, 0.);
+  coarseOf(m, G);
+  for (int kk = 0; kk < K; kk++) G[kk] = a[kk] - G[kk];
+  for (int j = 0; j < nc; j++) for (int t = 0; t < T; t++) {
+    const double dj = law.d[T * j + t], aj = law.a[T * j + t];
+    if (dj != 0) N[j + (size_t)law.dSlot[T * j + t] * nc] += dj;
+    if (aj == 0) continue;
+    const int r = law.aSlot[T * j + t];
+    for (int i = 0; i < nc; i++) N[j + (size_t)i * nc] -= aj * fp.deflated[r + (size_t)i * nc];
+    for (int kk = 0; kk < K; kk++) X[j + (size_t)kk * nc] += aj * fp.P[(size_t)kk * nc + r];
+  }
+  std::vector<int> pivots(nc), coarsePivots(K);
+  std::vector<double> J((size_t)K * K), da = G, dm(nc, 0.), trial(nc), cTrial(nc);
+  int info = 0, one = 1;
+  dgetrf_(&nc, &nc, N.data(), &nc, pivots.data(), &info);
+  if (info == 0) dgetrs_("N", &nc, &K, N.data(), &nc, pivots.data(), X.data(), &nc, &info);
+  if (info == 0) {
+    for (int r = 0; r < K; r++) for (int q = 0; q < K; q++) {
+      double sum = 0;
+      for (int j = 0; j < nc; j++) sum += fp.Q[(size_t)r * nc + j] * X[j + (size_t)q * nc];
+      J[r + (size_t)q * K] = (r == q ? 1. : 0.) - fp.delta[r] * sum;
+    }
+    dgetrf_(&K, &K, J.data(), &K, coarsePivots.data(), &info);
+  }
+  if (info == 0) dgetrs_("N", &K, &one, J.data(), &K, coarsePivots.data(), da.data(), &K, &info);
+  if (info == 0) {
+    for (int j = 0; j < nc; j++) for (int kk = 0; kk < K; kk++) dm[j] += X[j + (size_t)kk * nc] * da[kk];
+    double t = 1;
+    for (int h = 0; h <= 10; h++, t *= 0.5) {
+      for (int j = 0; j < nc; j++) trial[j] = m[j] - t * dm[j];
+      velocities(k, cFree, trial.data(), cTrial.data());
+      const double residual = law.evaluate(cTrial.data(), trial.data());
+      if (residual < before) {
+        std::copy(trial.begin(), trial.end(), m);
+        std::copy(cTrial.begin(), cTrial.end(), c);
+        for (int kk = 0; kk < K; kk++) a[kk] -= t * da[kk];
+        return residual;
+      }
+    }
+  }
+  coarseOf(m, a);
+  velocities(k, cFree, m, c);
+  return law.evaluate(c, m);
+}
+
+// The fixed point of a step with two levels (K > 0): each iteration a forward and a backward
+// sweep on D' (c_in = cFree - P a - D' m, a held), then the coarse correction. No Anderson
+// mixing: the coarse correction is already a Newton step on the slow modes. The stopping
+// test, the stall test and the outputs are fixedPointStep's.
+long twoLevelStep(Kernel &k, const double *cFreeIn, double *cInOut, double *mInOut, double info[solverInfoColumnCount]) {
+  const Factorization &factor = k.factor;
+  FixedPointState &fp = k.fixedPoint;
+  contactlaw::Slots &law = k.law;
+  const SolverSettings &settings = k.settings;
+  const int nc = factor.nc, K = fp.K, inc = 1;
+  const std::vector<double> userR = law.r;
+  for (int j = 0; j < nc; j++) law.setAugmentation(j, factor.rReference[j]);
+  std::vector<double> cFree(cFreeIn, cFreeIn + nc), c(nc), m(mInOut, mInOut + nc), cin(nc), a(K, 0.);
+  roundoffScale(k, cFree.data(), m.data());
+  for (int kk = 0; kk < K; kk++) {                  // a = delta Q'm: the coarse velocity of m
+    double sum = 0;
+    for (int j = 0; j < nc; j++) sum += fp.Q[(size_t)kk * nc + j] * m[j];
+    a[kk] = fp.delta[kk] * sum;
+  }
+  velocities(k, cFree.data(), m.data(), c.data());
+  double residual = law.evaluate(c.data(), m.data());
+  logIteration(k, 0, residual);
+  int unresolved = 0, it = 0;
+  bool done = stepConverged(k, residual, c.data(), unresolved), stalled = false;
+  std::vector<double> recent(20, 0.);
+  while (!done && it < settings.maxit && std::isfinite(residual)) {
+    const double minusOne = -1., one = 1.;
+    cin = cFree;                                     // c_in = cFree - P a - D' m
+    dgemv_("N", &nc, &nc, &minusOne, fp.deflated.data(), &nc, m.data(), &inc, &one, cin.data(), &inc);
+    for (int kk = 0; kk < K; kk++) for (int i = 0; i < nc; i++) cin[i] -= fp.P[(size_t)kk * nc + i] * a[kk];
+    fixedPointSweep(k, true, cin.data(), m.data(), fp.deflated.data(), fp.rhoDeflated.data());
+    fixedPointSweep(k, false, cin.data(), m.data(), fp.deflated.data(), fp.rhoDeflated.data());
+    it++;
+    residual = coarseCorrection(k, cFree.data(), c.data(), m.data(), a);
+    done = stepConverged(k, residual, c.data(), unresolved);
+    recent[it % 20] = residual;                      // stalled: as fixedPointStep's
+    if (!done && it >= 20 && std::fabs(residual - recent[(it + 1) % 20]) <= 1e-6 * residual) {
+      stalled = true;
+      logIteration(k, it, residual);
+      break;
+    }
+    logIteration(k, it, residual);
+  }
+  return fixedPointFinish(k, userR, c, m, residual, it, unresolved, stalled, done, cInOut, mInOut, info);
+}
 }  // namespace
 
 // One iteration of the map G from m (c is recomputed from m): the forward and backward sweeps;
@@ -101,6 +288,8 @@ long fixedPointStep(Kernel &k, const double *cFreeIn, double *cInOut, double *mI
   const SolverSettings &settings = k.settings;
   const int nc = factor.nc;
   fixedPointPrepare(k);
+  coarsePrepare(k);
+  if (k.fixedPoint.K > 0) return twoLevelStep(k, cFreeIn, cInOut, mInOut, info);
   // the convergence test at the operator's scale, as Newton's (referenceEvaluate)
   const std::vector<double> userR = law.r;
   for (int j = 0; j < nc; j++) law.setAugmentation(j, factor.rReference[j]);
@@ -190,11 +379,7 @@ long fixedPointStep(Kernel &k, const double *cFreeIn, double *cInOut, double *mI
     }
     logIteration(k, it, residual);
   }
-  for (int j = 0; j < nc; j++) law.setAugmentation(j, userR[j]);
-  std::copy(c.begin(), c.end(), cInOut);
-  std::copy(m.begin(), m.end(), mInOut);
-  info[InfoResidual] = residual; info[InfoIterations] = it; info[InfoUnresolved] = unresolved; info[InfoStalled] = stalled;
-  return done ? it : -1;
+  return fixedPointFinish(k, userR, c, m, residual, it, unresolved, stalled, done, cInOut, mInOut, info);
 }
 
 }  // namespace contactkernel

@@ -61,7 +61,7 @@ double boundStart(double aOff, double fOff, double aOn, double fOn, double aBeyo
 }
 
 // x_B_estimate, x_C_estimate: the first zone boundaries between the nodes (2D, Gamma3 ordered
-// by x), from the switching functions f:
+// by x; between neighbours on Gamma3 only), from the switching functions f:
 // - x_C, where sticking begins: the slip velocity falls to 0 linearly and the stick margin
 //   grows linearly from 0, so the switching function is linear across the boundary: its
 //   zero between the first sticking node and its neighbour of next smaller x;
@@ -73,14 +73,19 @@ void zoneEstimates(const Kernel &k, const Switches &f, double xB, double xC, dou
   estimateB = 1e300; estimateC = 1e300;
   if (!nodes.frame.empty()) return;
   const int nn = nodes.count();
-  // the node at x (the zone's first) and its neighbours of next smaller and next larger x (-1: none)
+  // the node at x (the zone's first) and its neighbours on Gamma3 (its edges: none across a gap
+  // between two pieces) of next smaller and next larger x (-1: none); without the edges, the
+  // nodes of next smaller and larger x
+  const bool edges = !nodes.neighbourStart.empty();
   auto around = [&](double x, int &at, int &left, int &right) {
     at = -1; left = -1; right = -1;
-    for (int i = 0; i < nn; i++) {
-      if (nodes.x[i] == x && at < 0) at = i;
+    for (int i = 0; i < nn && at < 0; i++) if (nodes.x[i] == x) at = i;
+    auto consider = [&](int i) {
       if (nodes.x[i] < x && (left < 0 || nodes.x[i] > nodes.x[left])) left = i;
       if (nodes.x[i] > x && (right < 0 || nodes.x[i] < nodes.x[right])) right = i;
-    }
+    };
+    if (edges && at >= 0) for (int e = nodes.neighbourStart[at]; e < nodes.neighbourStart[at + 1]; e++) consider(nodes.neighbour[e]);
+    else for (int i = 0; i < nn; i++) consider(i);
   };
   int at = -1, left = -1, right = -1;
   if (xB < 1e300) {

@@ -255,6 +255,12 @@ struct FixedPointState {
   const double omega = 1;               // relaxation of each slot's update
   const int window = 10;                // Anderson acceleration's window (0: none)
   long sweeps = 0;                      // over the run
+  // the two levels (2D, fixedpoint.cpp, coarsePrepare): the K stiffest modes of the Delassus
+  // matrix when a gap sets them apart (K = 0: none), Dw without them (deflated, its local
+  // augmentations rhoDeflated), and Dw - deflated = sum_k delta_k P_k Q_k'
+  long coarseGeneration = -1;
+  int K = 0;
+  std::vector<double> deflated, P, Q, delta, rhoDeflated;
 };
 
 // -verbose: what the log said last (newton.cpp, logIteration)

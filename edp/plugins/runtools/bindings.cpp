@@ -8,6 +8,8 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <fcntl.h>
+#include <iostream>
 #include <unistd.h>
 
 namespace runtools {
@@ -46,6 +48,25 @@ double runWallClock() {
   return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
 }
 long runProcessId() { return (long)getpid(); }
+// (on): 1 sends the standard output to /dev/null, 0 brings it back: the companion run of the
+// error estimates (edp/lib/companion.idp) catches its own failures, whose FreeFEM messages
+// would otherwise print as if the run had failed
+long runQuiet(const long &on) {
+  static int saved = -1;
+  std::cout.flush();
+  std::fflush(stdout);
+  if (on && saved < 0) {
+    saved = dup(1);
+    const int null = open("/dev/null", O_WRONLY);
+    if (null >= 0) { dup2(null, 1); close(null); }
+  }
+  else if (!on && saved >= 0) {
+    dup2(saved, 1);
+    close(saved);
+    saved = -1;
+  }
+  return 0;
+}
 // the seconds an environment variable gives (a number >= 0), -1 when it is unset or empty;
 // another value is refused (exit 2) rather than read as 0
 double runEnvironmentSeconds(string *const &name) {
@@ -96,6 +117,7 @@ static void Load_Init() {
   // here
   add("runWallClock", runWallClock);               // (): wall-clock seconds (steady clock)
   add("runProcessId", runProcessId);               // (): this process's id
+  add("runQuiet", runQuiet);                       // (on): 1 the standard output to /dev/null, 0 back
   add("runEnvironmentSeconds", runEnvironmentSeconds);   // (name): the seconds it gives, -1 if unset
   Global.Add("runShortestText", "(", new OneOperator1s_<string *, double>(runShortestText));   // (x): the shortest text that reads back as x
   // runfolder.cpp: the run folder (docs/design.md, "Output files")

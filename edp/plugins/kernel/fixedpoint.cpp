@@ -18,8 +18,9 @@
 // are split off: Dw = D' + sum_k delta_k P_k Q_k', D' keeping them at the first eigenvalue below
 // the gap. The sweeps run on D' with the modes' velocity a held (c = cFree - P a - D' m); after
 // each iteration a Newton step on the K equations a = delta Q'm, whose Jacobian is the
-// linearized response of every slot's relation (the law's relations(), as Newton's), moves a
-// and m together, shortened until the natural residual falls. In 3D (the disk) this did not
+// linearized response of every slot's relation (the law's relations(), as Newton's; its LU
+// kept while the relations repeat), moves a and m together, shortened until the natural
+// residual falls. In 3D (the disk) this did not
 // converge on the twisted and sloped blocks, which keep the one-level iteration.
 #include <algorithm>
 #include <cmath>
@@ -174,22 +175,34 @@ double coarseCorrection(Kernel &k, const double *cFree, double *c, double *m, st
   velocities(k, cFree, m, c);
   const double before = law.evaluate(c, m);
   law.relations(c);
-  std::vector<double> G(K), N((size_t)nc * nc, 0.), X((size_t)nc * K, 0.);
+  std::vector<double> G(K);
   coarseOf(m, G);
   for (int kk = 0; kk < K; kk++) G[kk] = a[kk] - G[kk];
-  for (int j = 0; j < nc; j++) for (int t = 0; t < T; t++) {
-    const double dj = law.d[T * j + t], aj = law.a[T * j + t];
-    if (dj != 0) N[j + (size_t)law.dSlot[T * j + t] * nc] += dj;
-    if (aj == 0) continue;
-    const int r = law.aSlot[T * j + t];
-    for (int i = 0; i < nc; i++) N[j + (size_t)i * nc] -= aj * fp.deflated[r + (size_t)i * nc];
-    for (int kk = 0; kk < K; kk++) X[j + (size_t)kk * nc] += aj * fp.P[(size_t)kk * nc + r];
-  }
-  std::vector<int> pivots(nc), coarsePivots(K);
-  std::vector<double> J((size_t)K * K), da = G, dm(nc, 0.), trial(nc), cTrial(nc);
+  // X = N'^-1 (A_c P): computed again only when the relations changed (a piece, or a
+  // coefficient of a nonlinear one); the same relations give the same X
+  std::vector<double> &X = fp.coarseResponse;
   int info = 0, one = 1;
-  dgetrf_(&nc, &nc, N.data(), &nc, pivots.data(), &info);
-  if (info == 0) dgetrs_("N", &nc, &K, N.data(), &nc, pivots.data(), X.data(), &nc, &info);
+  const bool same = fp.coarseResponseGeneration == k.factor.delassusGeneration && fp.coarseRelationA == law.a
+                    && fp.coarseRelationD == law.d && fp.coarseRelationASlot == law.aSlot && fp.coarseRelationDSlot == law.dSlot;
+  if (!same) {
+    std::vector<double> N((size_t)nc * nc, 0.);
+    X.assign((size_t)nc * K, 0.);
+    for (int j = 0; j < nc; j++) for (int t = 0; t < T; t++) {
+      const double dj = law.d[T * j + t], aj = law.a[T * j + t];
+      if (dj != 0) N[j + (size_t)law.dSlot[T * j + t] * nc] += dj;
+      if (aj == 0) continue;
+      const int r = law.aSlot[T * j + t];
+      for (int i = 0; i < nc; i++) N[j + (size_t)i * nc] -= aj * fp.deflated[r + (size_t)i * nc];
+      for (int kk = 0; kk < K; kk++) X[j + (size_t)kk * nc] += aj * fp.P[(size_t)kk * nc + r];
+    }
+    std::vector<int> pivots(nc);
+    dgetrf_(&nc, &nc, N.data(), &nc, pivots.data(), &info);
+    if (info == 0) dgetrs_("N", &nc, &K, N.data(), &nc, pivots.data(), X.data(), &nc, &info);
+    fp.coarseResponseGeneration = info == 0 ? k.factor.delassusGeneration : -1;
+    fp.coarseRelationA = law.a; fp.coarseRelationD = law.d; fp.coarseRelationASlot = law.aSlot; fp.coarseRelationDSlot = law.dSlot;
+  }
+  std::vector<int> coarsePivots(K);
+  std::vector<double> J((size_t)K * K), da = G, dm(nc, 0.), trial(nc), cTrial(nc);
   if (info == 0) {
     for (int r = 0; r < K; r++) for (int q = 0; q < K; q++) {
       double sum = 0;

@@ -261,6 +261,10 @@ struct FixedPointState {
   long coarseGeneration = -1;
   int K = 0;
   std::vector<double> deflated, P, Q, delta, rhoDeflated;
+  // the coarse step's response X = dm/da, kept while the relations it came from repeat
+  std::vector<double> coarseResponse, coarseRelationA, coarseRelationD;
+  std::vector<int> coarseRelationASlot, coarseRelationDSlot;
+  long coarseResponseGeneration = -1;
 };
 
 // -verbose: what the log said last (newton.cpp, logIteration)

@@ -161,7 +161,7 @@ void coarsePrepare(Kernel &k) {
 // a -= t da and m -= t X da, t = 1, 1/2, ... 1/1024, the first that lowers the natural
 // residual; if none does, a = delta Q'm (the coarse velocity the sweeps then hold is m's own).
 // c = cFree - Dw m after it. Returns the natural residual at (c, m).
-double coarseCorrection(Kernel &k, const double *cFree, double *c, double *m, std::vector<double> &a) {
+double coarseCorrection(Kernel &k, const double *cFree, double *c, double *m, std::vector<double> &a, double longest) {
   FixedPointState &fp = k.fixedPoint;
   contactlaw::Slots &law = k.law;
   const int nc = k.factor.nc, K = fp.K, T = contactlaw::Slots::termsPerRelation;
@@ -214,7 +214,7 @@ double coarseCorrection(Kernel &k, const double *cFree, double *c, double *m, st
   if (info == 0) dgetrs_("N", &K, &one, J.data(), &K, coarsePivots.data(), da.data(), &K, &info);
   if (info == 0) {
     for (int j = 0; j < nc; j++) for (int kk = 0; kk < K; kk++) dm[j] += X[j + (size_t)kk * nc] * da[kk];
-    double t = 1;
+    double t = longest;
     for (int h = 0; h <= 10; h++, t *= 0.5) {
       for (int j = 0; j < nc; j++) trial[j] = m[j] - t * dm[j];
       velocities(k, cFree, trial.data(), cTrial.data());
@@ -236,7 +236,8 @@ double coarseCorrection(Kernel &k, const double *cFree, double *c, double *m, st
 // sweep on D' (c_in = cFree - P a - D' m, a held), then the coarse correction. No Anderson
 // mixing: the coarse correction is already a Newton step on the slow modes. The stopping
 // test, the stall test and the outputs are fixedPointStep's.
-long twoLevelStep(Kernel &k, const double *cFreeIn, double *cInOut, double *mInOut, double info[solverInfoColumnCount]) {
+long twoLevelStep(Kernel &k, const double *cFreeIn, double *cInOut, double *mInOut, double info[solverInfoColumnCount], bool &cycled) {
+  cycled = false;
   const Factorization &factor = k.factor;
   FixedPointState &fp = k.fixedPoint;
   contactlaw::Slots &law = k.law;
@@ -257,6 +258,8 @@ long twoLevelStep(Kernel &k, const double *cFreeIn, double *cInOut, double *mInO
   int unresolved = 0, it = 0;
   bool done = stepConverged(k, residual, c.data(), unresolved), stalled = false;
   std::vector<double> recent(20, 0.);
+  const double longest = 1;                          // the coarse step's longest try
+  int cycling = 0;
   while (!done && it < settings.maxit && std::isfinite(residual)) {
     const double minusOne = -1., one = 1.;
     cin = cFree;                                     // c_in = cFree - P a - D' m
@@ -265,8 +268,13 @@ long twoLevelStep(Kernel &k, const double *cFreeIn, double *cInOut, double *mInO
     fixedPointSweep(k, true, cin.data(), m.data(), fp.deflated.data(), fp.rhoDeflated.data());
     fixedPointSweep(k, false, cin.data(), m.data(), fp.deflated.data(), fp.rhoDeflated.data());
     it++;
-    residual = coarseCorrection(k, cFree.data(), c.data(), m.data(), a);
+    residual = coarseCorrection(k, cFree.data(), c.data(), m.data(), a, longest);
     done = stepConverged(k, residual, c.data(), unresolved);
+    // a cycle of two (the residual back to its value of two iterations before, ten times in a
+    // row: seen at small time steps, normal slots switching between free and damped): stop,
+    // and the step is solved again from its start on one level (fixedPointStep)
+    cycling = !done && it >= 3 && std::fabs(residual - recent[(it - 2 + 20) % 20]) <= 1e-9 * residual ? cycling + 1 : 0;
+    if (cycling >= 10) { cycled = true; logIteration(k, it, residual); break; }
     recent[it % 20] = residual;                      // stalled: as fixedPointStep's
     if (!done && it >= 20 && std::fabs(residual - recent[(it + 1) % 20]) <= 1e-6 * residual) {
       stalled = true;
@@ -302,7 +310,16 @@ long fixedPointStep(Kernel &k, const double *cFreeIn, double *cInOut, double *mI
   const int nc = factor.nc;
   fixedPointPrepare(k);
   coarsePrepare(k);
-  if (k.fixedPoint.K > 0) return twoLevelStep(k, cFreeIn, cInOut, mInOut, info);
+  int before = 0;                                    // iterations of a two-level try that cycled
+  if (k.fixedPoint.K > 0) {
+    std::vector<double> cStart(cInOut, cInOut + nc), mStart(mInOut, mInOut + nc);
+    bool cycled = false;
+    const long it = twoLevelStep(k, cFreeIn, cInOut, mInOut, info, cycled);
+    if (!cycled) return it;
+    before = (int)info[InfoIterations];               // from the step's start again, on one level
+    std::copy(cStart.begin(), cStart.end(), cInOut);
+    std::copy(mStart.begin(), mStart.end(), mInOut);
+  }
   // the convergence test at the operator's scale, as Newton's (referenceEvaluate)
   const std::vector<double> userR = law.r;
   for (int j = 0; j < nc; j++) law.setAugmentation(j, factor.rReference[j]);
@@ -392,7 +409,7 @@ long fixedPointStep(Kernel &k, const double *cFreeIn, double *cInOut, double *mI
     }
     logIteration(k, it, residual);
   }
-  return fixedPointFinish(k, userR, c, m, residual, it, unresolved, stalled, done, cInOut, mInOut, info);
+  return fixedPointFinish(k, userR, c, m, residual, before + it, unresolved, stalled, done, cInOut, mInOut, info);
 }
 
 }  // namespace contactkernel

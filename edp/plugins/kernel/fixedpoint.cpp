@@ -155,28 +155,37 @@ void coarsePrepare(Kernel &k) {
   }
 }
 
+// a = delta Q'm: the velocity of the split-off modes that m gives
+void coarseVelocity(const FixedPointState &fp, int nc, const double *m, std::vector<double> &a) {
+  for (int kk = 0; kk < fp.K; kk++) {
+    double sum = 0;
+    for (int j = 0; j < nc; j++) sum += fp.Q[(size_t)kk * nc + j] * m[j];
+    a[kk] = fp.delta[kk] * sum;
+  }
+}
+
+// The stall test of either fixed point: the residual has not changed by 1e-6 of itself in 20
+// iterations, away from a solution (recent: the residuals of the last 20 iterations)
+bool stalledNow(std::vector<double> &recent, int it, double residual, bool done) {
+  recent[it % 20] = residual;
+  return !done && it >= 20 && std::fabs(residual - recent[(it + 1) % 20]) <= 1e-6 * residual;
+}
+
 // The coarse correction after an iteration's sweeps: G = a - delta Q'm, the Newton step
 // da = J^-1 G with J = I - diag(delta) Q'X, X = dm/da the response of every slot's relation
 // (row j: sum d dm - sum a D' dm = sum a P da, the relations of the law at the current pieces);
 // a -= t da and m -= t X da, t = 1, 1/2, ... 1/1024, the first that lowers the natural
 // residual; if none does, a = delta Q'm (the coarse velocity the sweeps then hold is m's own).
 // c = cFree - Dw m after it. Returns the natural residual at (c, m).
-double coarseCorrection(Kernel &k, const double *cFree, double *c, double *m, std::vector<double> &a, double longest) {
+double coarseCorrection(Kernel &k, const double *cFree, double *c, double *m, std::vector<double> &a) {
   FixedPointState &fp = k.fixedPoint;
   contactlaw::Slots &law = k.law;
   const int nc = k.factor.nc, K = fp.K, T = contactlaw::Slots::termsPerRelation;
-  auto coarseOf = [&](const double *mm, std::vector<double> &out) {
-    for (int kk = 0; kk < K; kk++) {
-      double sum = 0;
-      for (int j = 0; j < nc; j++) sum += fp.Q[(size_t)kk * nc + j] * mm[j];
-      out[kk] = fp.delta[kk] * sum;
-    }
-  };
   velocities(k, cFree, m, c);
   const double before = law.evaluate(c, m);
   law.relations(c);
   std::vector<double> G(K);
-  coarseOf(m, G);
+  coarseVelocity(fp, nc, m, G);
   for (int kk = 0; kk < K; kk++) G[kk] = a[kk] - G[kk];
   // X = N'^-1 (A_c P): computed again only when the relations changed (a piece, or a
   // coefficient of a nonlinear one); the same relations give the same X
@@ -214,7 +223,7 @@ double coarseCorrection(Kernel &k, const double *cFree, double *c, double *m, st
   if (info == 0) dgetrs_("N", &K, &one, J.data(), &K, coarsePivots.data(), da.data(), &K, &info);
   if (info == 0) {
     for (int j = 0; j < nc; j++) for (int kk = 0; kk < K; kk++) dm[j] += X[j + (size_t)kk * nc] * da[kk];
-    double t = longest;
+    double t = 1;
     for (int h = 0; h <= 10; h++, t *= 0.5) {
       for (int j = 0; j < nc; j++) trial[j] = m[j] - t * dm[j];
       velocities(k, cFree, trial.data(), cTrial.data());
@@ -227,7 +236,7 @@ double coarseCorrection(Kernel &k, const double *cFree, double *c, double *m, st
       }
     }
   }
-  coarseOf(m, a);
+  coarseVelocity(fp, nc, m, a);
   velocities(k, cFree, m, c);
   return law.evaluate(c, m);
 }
@@ -247,18 +256,13 @@ long twoLevelStep(Kernel &k, const double *cFreeIn, double *cInOut, double *mInO
   for (int j = 0; j < nc; j++) law.setAugmentation(j, factor.rReference[j]);
   std::vector<double> cFree(cFreeIn, cFreeIn + nc), c(nc), m(mInOut, mInOut + nc), cin(nc), a(K, 0.);
   roundoffScale(k, cFree.data(), m.data());
-  for (int kk = 0; kk < K; kk++) {                  // a = delta Q'm: the coarse velocity of m
-    double sum = 0;
-    for (int j = 0; j < nc; j++) sum += fp.Q[(size_t)kk * nc + j] * m[j];
-    a[kk] = fp.delta[kk] * sum;
-  }
+  coarseVelocity(fp, nc, m.data(), a);
   velocities(k, cFree.data(), m.data(), c.data());
   double residual = law.evaluate(c.data(), m.data());
   logIteration(k, 0, residual);
   int unresolved = 0, it = 0;
   bool done = stepConverged(k, residual, c.data(), unresolved), stalled = false;
   std::vector<double> recent(20, 0.);
-  const double longest = 1;                          // the coarse step's longest try
   int cycling = 0;
   while (!done && it < settings.maxit && std::isfinite(residual)) {
     const double minusOne = -1., one = 1.;
@@ -268,15 +272,15 @@ long twoLevelStep(Kernel &k, const double *cFreeIn, double *cInOut, double *mInO
     fixedPointSweep(k, true, cin.data(), m.data(), fp.deflated.data(), fp.rhoDeflated.data());
     fixedPointSweep(k, false, cin.data(), m.data(), fp.deflated.data(), fp.rhoDeflated.data());
     it++;
-    residual = coarseCorrection(k, cFree.data(), c.data(), m.data(), a, longest);
+    residual = coarseCorrection(k, cFree.data(), c.data(), m.data(), a);
     done = stepConverged(k, residual, c.data(), unresolved);
     // a cycle of two (the residual back to its value of two iterations before, ten times in a
     // row: seen at small time steps, normal slots switching between free and damped): stop,
-    // and the step is solved again from its start on one level (fixedPointStep)
+    // and the step is solved again from its start on one level (fixedPointStep); then the
+    // stall test
     cycling = !done && it >= 3 && std::fabs(residual - recent[(it - 2 + 20) % 20]) <= 1e-9 * residual ? cycling + 1 : 0;
     if (cycling >= 10) { cycled = true; logIteration(k, it, residual); break; }
-    recent[it % 20] = residual;                      // stalled: as fixedPointStep's
-    if (!done && it >= 20 && std::fabs(residual - recent[(it + 1) % 20]) <= 1e-6 * residual) {
+    if (stalledNow(recent, it, residual, done)) {
       stalled = true;
       logIteration(k, it, residual);
       break;
@@ -351,8 +355,7 @@ long fixedPointStep(Kernel &k, const double *cFreeIn, double *cInOut, double *mI
     // stalled: the residual has not changed by 1e-6 of itself in 20 iterations, away from a
     // solution (the sweeps then have a fixed point that is not one of the law, seen with steep
     // damping tables: a backward sweep undoes the forward one); stop, exit 4 follows
-    recent[it % 20] = residual;
-    if (!done && it >= 20 && std::fabs(residual - recent[(it + 1) % 20]) <= 1e-6 * residual) {
+    if (stalledNow(recent, it, residual, done)) {
       stalled = true;
       logIteration(k, it, residual);
       break;

@@ -3,6 +3,7 @@
 // contact_nodes_history.txt in the columns the script names, and the record of a step (the
 // energy terms of history.txt, the forces, zones, x_B and x_C of contact_history.txt, the rows
 // of zone_boundaries.txt).
+#include <charconv>
 #include <algorithm>
 #include <cmath>
 #include <sstream>
@@ -216,26 +217,34 @@ long appendNodes(Kernel &k, const std::string &path, long n, double t, const dou
   }
   int nodalColumns = 0;
   const Column *nodal = columnsOf("nodal", nodalColumns);
-  std::ofstream &f = file.stream;
+  // the rows made in a buffer by std::to_chars, which writes what the stream's 17 digits would
+  // ("as if by printf %.17g") three times as fast: on small meshes these rows cost as much as
+  // the step's solve
+  std::string text;
+  char digits[64];
+  auto number = [&](double value) { text.append(digits, std::to_chars(digits, digits + sizeof digits, value, std::chars_format::general, 17).ptr); };
+  auto integer = [&](long value) { text.append(digits, std::to_chars(digits, digits + sizeof digits, value).ptr); };
   const int nn = (int)(table.size() / nodalColumnCount);
   for (int i = 0; i < nn; i++) {
     const double *row = table.data() + (size_t)i * nodalColumnCount;
     for (size_t c = 0; c < file.columns.size(); c++) {
-      if (c > 0) f << " ";
+      if (c > 0) text += ' ';
       switch (const int source = file.columns[c]) {
-        case NodesFile::Step: f << n; break;
-        case NodesFile::Time: f << t; break;
-        case NodesFile::Node: f << i; break;
-        case NodesFile::X: f << x[i]; break;
-        case NodesFile::Y: f << y[i]; break;
-        case NodesFile::Z: f << z[i]; break;
+        case NodesFile::Step: integer(n); break;
+        case NodesFile::Time: number(t); break;
+        case NodesFile::Node: integer(i); break;
+        case NodesFile::X: number(x[i]); break;
+        case NodesFile::Y: number(y[i]); break;
+        case NodesFile::Z: number(z[i]); break;
         default:
-          if (nodal[source].integer) f << std::lround(row[source]);
-          else f << row[source];
+          if (nodal[source].integer) integer(std::lround(row[source]));
+          else number(row[source]);
       }
     }
-    f << "\n";
+    text += '\n';
   }
+  std::ofstream &f = file.stream;
+  f.write(text.data(), (std::streamsize)text.size());
   return f ? 0 : 1;
 }
 

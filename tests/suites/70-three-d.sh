@@ -195,6 +195,37 @@ solve -nx 16 -ny 8 -adapt 1 -maxit 1 -out "$work/adapt4" > "$work/adapt4.err" 2>
 solve -nx 16 -ny 8 -adapt 1 -T 0.02 -out "$work/adapt5" >> "$diag" 2>&1 || { echo "-adapt with 2 steps failed" >> "$diag"; status=1; }
 report $status "-adapt 2: the paper's zones in order, x_B and x_C within 0.02 m, physics checks; the same mesh byte for byte when made again; repeated from OUT/mesh.msh, whose mesh_source still says how it was made; a vertex budget or a failed pilot stops the run (exit 2, 4) with no output; fewer steps than snapshots; the last pilot is the companion of the error estimates" "$diag"
 
+# -adapt_zones H: the last round refined around the zone boundaries B and C the last pilot
+# found at T. Gamma3's spacing at the run's x_B_estimate and x_C_estimate at most 3 H (the
+# target is H + 0.1 d, read at the vertices of the mesh adapted, and the pilot places the
+# points a little off the run's), and both estimates within 2e-3 m of the reference's (0.47949,
+# 1.33614; the settings of docs/performance.md, "Zone boundaries", are within 8.2e-4); without
+# -adapt, a note and no refinement
+diag="$work/adapt-zones.diag"; : > "$diag"; status=0
+rm -rf "$work/adapt-zones" "$work/adapt-zones0"
+solve -nx 16 -ny 8 -adapt 2 -adapt_zones 2e-3 -out "$work/adapt-zones" >> "$diag" 2>&1 || status=1
+"$PYTHON" tests/check_results.py "$work/adapt-zones" >> "$diag" 2>&1 || status=1
+"$PYTHON" - "$work/adapt-zones" >> "$diag" 2>&1 <<'PY' || status=1
+import sys
+import numpy as np
+sys.path.insert(0, "edp")
+import runfiles
+run = sys.argv[1]
+summary = runfiles.read_summary(run)
+assert "refined to 2e-3 around 2 zone boundaries" in summary["mesh_source"], summary["mesh_source"]
+xs = np.sort(runfiles.read_table(run + "/contact.txt")["x"])          # Gamma3's nodes (y = 0)
+for key, reference in (("x_B_estimate", 0.47949), ("x_C_estimate", 1.33614)):
+    x0 = summary.real(key)
+    k = np.searchsorted(xs, x0)
+    spacing = xs[k] - xs[k - 1]
+    assert 0 < k < len(xs) and spacing <= 3 * 2e-3, (key, x0, spacing)
+    assert abs(x0 - reference) < 2e-3, (key, x0, reference)
+PY
+solve -nx 16 -ny 8 -adapt_zones 1e-3 -T 0.05 -out "$work/adapt-zones0" > "$work/adapt-zones0.err" 2>&1 || status=1
+grep -q "^note: option -adapt_zones applies to -adapt N, N >= 1; this run does not adapt its mesh" "$work/adapt-zones0.err" \
+  || { echo "no note for -adapt_zones without -adapt:"; cat "$work/adapt-zones0.err"; status=1; } >> "$diag"
+report $status "-adapt_zones 2e-3: Gamma3's spacing at x_B_estimate and x_C_estimate at most 3 H, both within 2e-3 m of the reference, physics checks; without -adapt a note" "$diag"
+
 # -snapshots N: x, y, u, v at every vertex at the first step at or after j T/N; the last frame
 # is fields.txt's u and v; N above the steps gives every step
 diag="$work/snapshots.diag"; : > "$diag"; status=0

@@ -106,6 +106,9 @@
 //   contactKernelZoneBoundaries(string file)  appends the rows of zone_boundaries.txt of every
 //       record since contactKernelRecordStart to file (its header written); 1 if the file was
 //       not written whole
+//   contactKernelStepZoneBoundaries(int step, real[int] points)  the zone boundaries the record
+//       of step found, as x y z kind per boundary (kind 1: B, 2: C); returns their count
+//       (-adapt refines the mesh around those of a pilot's last step)
 //   contactKernelHistory(real[int] info, real[int] history)  the arrays into which each
 //       contactKernelRecord then also writes its step's row of the table "history" (t,
 //       iterations and residual from info, the solvers' "solver_info", then the record), row n
@@ -607,6 +610,14 @@ long nodal(KN<double> *const &pv, KN<double> *const &pLam, KNM<double> *const &p
 }
 
 long zoneBoundaries(string *const &path) { return writeZoneBoundaries(kernel(), *path); }
+long stepZoneBoundaries(const long &step, KN<double> *const &ppoints) {
+  std::vector<double> points;
+  for (const ZoneBoundary &r : kernel().record.boundaries)
+    if (r.step == step) { points.push_back(r.x); points.push_back(r.y); points.push_back(r.z); points.push_back(r.kind); }
+  ppoints->resize((long)points.size());
+  for (size_t i = 0; i < points.size(); i++) (*ppoints)[(long)i] = points[i];
+  return (long)points.size() / 4;
+}
 long nodesColumns(string *const &names) { setNodesFileColumns(kernel(), *names); return 0; }
 long closeNodes() { return closeNodesFile(kernel()); }
 long appendNodesBinding(string *const &path, const long &n, const double &t, KN<double> *const &px, KN<double> *const &py,
@@ -723,6 +734,7 @@ static void Load_Init() {
   Global.Add("contactKernelAppendNodes", "(", new OneOperator7_<long, string *, long, double, Array, Array, Array, Table>(appendNodesBinding));
   Global.Add("contactKernelCloseNodes", "(", new OneOperator0<long>(closeNodes));
   Global.Add("contactKernelZoneBoundaries", "(", new OneOperator1_<long, string *>(zoneBoundaries));
+  Global.Add("contactKernelStepZoneBoundaries", "(", new OneOperator2_<long, long, KN<double> *>(stepZoneBoundaries));
   Global.Add("contactKernelSourcesChanged", "(", new OneOperator1_<long, string *>(sourcesChanged));
 }
 

@@ -20,12 +20,18 @@
 // each iteration a Newton step on the K equations a = delta Q'm, whose Jacobian is the
 // linearized response of every slot's relation (the law's relations(), as Newton's; its LU
 // kept while the relations repeat), moves a and m together, shortened until the natural
-// residual falls. In 3D (the disk) this did not
-// converge on the twisted and sloped blocks, which keep the one-level iteration.
+// residual falls.
+// In 3D (the disk) that coarse step did not converge on the twisted and sloped blocks: the
+// sweeps with a held go to the solution at that a, which is steep in a. There, with one mode
+// split off, each half-sweep on D' takes the a with which it ends consistent, a = delta Q'm
+// after it (a scalar root, found by secant steps; consistentStep): a splitting of Dw that
+// converges whatever delta (docs/stability.md, "The fixed point on hard bodies").
 #include <algorithm>
 #include <cmath>
 #include "blas.hpp"
 #include "kernel.hpp"
+
+
 
 namespace contactkernel {
 namespace {
@@ -44,13 +50,13 @@ void fixedPointPrepare(Kernel &k) {
   fixedPoint.generation = factor.delassusGeneration;
 }
 
-// A 3D node's tangential pair (j, q) in one update: b = c_tau + D m_tau with the pair's block D
-// of Dw, the disk's exact local solve (Slots::diskUpdate), then c follows m.
-void fixedPointDisk(Kernel &k, int j, int q, double *c, double *m) {
-  const Factorization &factor = k.factor;
-  const int nc = factor.nc, inc = 1;
-  const double Djj = factor.Dw[j + (size_t)j * nc], Djq = factor.Dw[j + (size_t)q * nc];
-  const double Dqj = factor.Dw[q + (size_t)j * nc], Dqq = factor.Dw[q + (size_t)q * nc];
+// A 3D node's tangential pair (j, q) in one update: b = c_tau + D m_tau with the pair's block of
+// D (Dw, or D' of the two levels), the disk's exact local solve (Slots::diskUpdate), then c
+// follows m.
+void fixedPointDisk(Kernel &k, int j, int q, double *c, double *m, const double *D) {
+  const int nc = k.factor.nc, inc = 1;
+  const double Djj = D[j + (size_t)j * nc], Djq = D[j + (size_t)q * nc];
+  const double Dqj = D[q + (size_t)j * nc], Dqq = D[q + (size_t)q * nc];
   const double bj = c[j] + Djj * m[j] + Djq * m[q], bq = c[q] + Dqj * m[j] + Dqq * m[q];
   double mj = 0, mq = 0;
   k.law.diskUpdate(j, Djj, Djq, Dqj, Dqq, bj, bq, c, mj, mq);
@@ -58,8 +64,8 @@ void fixedPointDisk(Kernel &k, int j, int q, double *c, double *m) {
   const double deltaJ = omega * (mj - m[j]), deltaQ = omega * (mq - m[q]);
   m[j] += deltaJ; m[q] += deltaQ;
   const double minusJ = -deltaJ, minusQ = -deltaQ;
-  if (deltaJ != 0) daxpy_(&nc, &minusJ, factor.Dw.data() + (size_t)j * nc, &inc, c, &inc);
-  if (deltaQ != 0) daxpy_(&nc, &minusQ, factor.Dw.data() + (size_t)q * nc, &inc, c, &inc);
+  if (deltaJ != 0) daxpy_(&nc, &minusJ, D + (size_t)j * nc, &inc, c, &inc);
+  if (deltaQ != 0) daxpy_(&nc, &minusQ, D + (size_t)q * nc, &inc, c, &inc);
 }
 
 // one sweep over the slots, forward or backward, on Dw (or, two levels, on D' with its own
@@ -74,7 +80,7 @@ void fixedPointSweep(Kernel &k, bool forward, double *c, double *m, const double
     const int j = forward ? step : nc - 1 - step;
     const int q = law.pair[j];
     if (q >= 0) {                                    // a 3D pair, at the first of its two slots
-      if (forward ? q > j : q < j) fixedPointDisk(k, j, q, c, m);
+      if (forward ? q > j : q < j) fixedPointDisk(k, j, q, c, m, D);
       continue;
     }
     const double *column = D + (size_t)j * nc;
@@ -104,8 +110,68 @@ long fixedPointFinish(Kernel &k, const std::vector<double> &userR, const std::ve
   return done ? it : -1;
 }
 
+// Anderson acceleration of a map G of m (its window: FixedPointState::window): after an
+// iteration x -> m = G(x) (c its velocities, residual its natural residual), the iterate that
+// mixes the last window iterates to minimise G(m) - m, kept only when its natural residual is
+// not above G's (else G's iterate is kept and the history restarts). Returns whether the mixed
+// iterate was kept (c, m and residual are then its own).
+struct Anderson {
+  int window, nc, stored = 0, head = 0;
+  bool havePrev = false;
+  std::vector<double> dX, dF, xPrev, fPrev, f, gm, gc;
+  Anderson(int window, int nc)
+    : window(window), nc(nc), dX((size_t)window * nc), dF((size_t)window * nc), xPrev(nc), fPrev(nc), f(nc), gm(nc), gc(nc) {}
+  bool mix(Kernel &k, const double *cFree, const std::vector<double> &x, std::vector<double> &c, std::vector<double> &m, double &residual,
+           double allowed = 1) {
+    contactlaw::Slots &law = k.law;
+    for (int j = 0; j < nc; j++) f[j] = m[j] - x[j];
+    if (havePrev) {
+      for (int j = 0; j < nc; j++) { dX[(size_t)head * nc + j] = x[j] - xPrev[j]; dF[(size_t)head * nc + j] = f[j] - fPrev[j]; }
+      head = (head + 1) % window;
+      stored = std::min(stored + 1, window);
+    }
+    xPrev = x; fPrev = f; havePrev = true;
+    if (stored == 0) return false;
+    // gamma = argmin |f - dF gamma| (normal equations, regularized)
+    const int w = stored;
+    std::vector<double> A((size_t)w * w), rhs(w);
+    double trace = 0;
+    for (int a = 0; a < w; a++) {
+      for (int b = 0; b < w; b++) {
+        double sum = 0;
+        for (int j = 0; j < nc; j++) sum += dF[(size_t)a * nc + j] * dF[(size_t)b * nc + j];
+        A[a + (size_t)b * w] = sum;
+      }
+      double sum = 0;
+      for (int j = 0; j < nc; j++) sum += dF[(size_t)a * nc + j] * f[j];
+      rhs[a] = sum;
+      trace += A[a + (size_t)a * w];
+    }
+    for (int a = 0; a < w; a++) A[a + (size_t)a * w] += 1e-12 * trace + 1e-300;
+    std::vector<int> piv(w);
+    int one = 1, info = 0;
+    dgetrf_(&w, &w, A.data(), &w, piv.data(), &info);
+    if (info == 0) dgetrs_("N", &w, &one, A.data(), &w, piv.data(), rhs.data(), &w, &info);
+    if (info != 0) return false;
+    gm = m; gc = c;
+    for (int j = 0; j < nc; j++) {
+      double s = 0;
+      for (int a = 0; a < w; a++) s += (dX[(size_t)a * nc + j] + dF[(size_t)a * nc + j]) * rhs[a];
+      m[j] = gm[j] - s;
+    }
+    velocities(k, cFree, m.data(), c.data());
+    const double accelerated = law.evaluate(c.data(), m.data());
+    if (accelerated <= allowed * residual) { residual = accelerated; return true; }
+    m = gm; c = gc;                                  // not better: keep G's iterate, forget the history
+    residual = law.evaluate(c.data(), m.data());
+    stored = 0; head = 0; havePrev = false;
+    return false;
+  }
+};
+
 // The two levels (see the head of this file): K and the split of Dw, once per Delassus matrix.
-// K = 0 (one level) in 3D, and where no gap between the top eigenvalues exceeds coarseGap.
+// K = 0 (one level) where no gap between the top eigenvalues exceeds coarseGap, and in 3D (the
+// disk) unless that gap sets one mode apart.
 const int coarseModesMax = 8;                        // at most this many modes split off
 const double coarseGap = 10;                         // ... when the gap is above this ratio
 void coarsePrepare(Kernel &k) {
@@ -115,9 +181,8 @@ void coarsePrepare(Kernel &k) {
   fp.coarseGeneration = factor.delassusGeneration;
   fp.K = 0;
   const int nc = factor.nc;
-  bool disk = false;
-  for (int j = 0; j < nc; j++) disk = disk || k.law.pair[j] >= 0;
-  if (disk || nc < 2) return;
+  if (nc < 2) return;
+  const bool disk = k.law.hasPairs();
   const std::vector<double> &w = k.nodes.slotWeight, &Dw = factor.Dw;
   // W^1/2 Dw W^-1/2 = W^1/2 C S^-1 C' W^1/2, symmetric (up to round-off: averaged)
   std::vector<double> A((size_t)nc * nc), eig(nc);
@@ -136,7 +201,7 @@ void coarsePrepare(Kernel &k) {
     const double ratio = eig[nc - kk] / std::max(eig[nc - kk - 1], 1e-300 * eig[nc - 1]);
     if (ratio > gap) { gap = ratio; K = kk; }
   }
-  if (!(gap > coarseGap)) return;
+  if (!(gap > coarseGap) || (disk && K != 1)) return;   // the disk: one mode only (consistentStep)
   const double below = eig[nc - K - 1];
   fp.K = K;
   fp.delta.assign(K, 0.); fp.P.assign((size_t)K * nc, 0.); fp.Q.assign((size_t)K * nc, 0.);
@@ -153,6 +218,10 @@ void coarsePrepare(Kernel &k) {
     const double djj = fp.deflated[j + (size_t)j * nc];
     fp.rhoDeflated[j] = std::max(1. / djj - k.law.Kn[j], 1e-3 / djj);
   }
+  // the disk's coarse root (consistentStep): its first slope, the response of every slot to a
+  // alone, 1 + delta sum Q_j P_j / D'_jj
+  fp.coarseSlope = 1;
+  for (int j = 0; j < nc; j++) fp.coarseSlope += fp.delta[0] * fp.Q[j] * fp.P[j] / fp.deflated[j + (size_t)j * nc];
 }
 
 // a = delta Q'm: the velocity of the split-off modes that m gives
@@ -289,6 +358,109 @@ long twoLevelStep(Kernel &k, const double *cFreeIn, double *cInOut, double *mInO
   }
   return fixedPointFinish(k, userR, c, m, residual, it, unresolved, stalled, done, cInOut, mInOut, info);
 }
+// The disk's two levels (3D, K = 1: see the head of this file). One sweep on D' from m with the
+// coarse velocity a held gives m_a; R(a) = a - delta Q'm_a is the mismatch of a with the
+// velocity m_a gives. Each half of an iteration (the forward sweep, then the backward one)
+// takes the a with R(a) = 0, so that its sweep ends where c_in = cFree - P a - D'm equals
+// cFree - Dw m: a splitting of Dw (the triangle of D' plus the mode), convergent for the
+// linear part whatever delta. R is a scalar function, increasing (a faster coarse motion
+// presses the slots harder), piecewise smooth: found from the last root of the same half (the
+// first: a = delta Q'm) by secant steps on the slope last found, then, once bracketed, secant
+// steps kept inside the bracket (bisection when one leaves it), until the mismatch R moves the
+// residual by at most a tenth of the last natural residual (weight |R|), or by round-off.
+// Every R costs a sweep (counted: fixed_point_sweeps). The iterates of the map m -> both halves
+// are mixed by Anderson, as the one-level fixed point's. The stopping and the stall tests, and
+// the outputs, are fixedPointStep's.
+const double consistentAllowed = 5;                  // Anderson's iterate kept up to 5 times G's residual
+long consistentStep(Kernel &k, const double *cFreeIn, double *cInOut, double *mInOut, double info[solverInfoColumnCount]) {
+  const Factorization &factor = k.factor;
+  FixedPointState &fp = k.fixedPoint;
+  contactlaw::Slots &law = k.law;
+  const SolverSettings &settings = k.settings;
+  const int nc = factor.nc, inc = 1;
+  const std::vector<double> userR = law.r;
+  for (int j = 0; j < nc; j++) law.setAugmentation(j, factor.rReference[j]);
+  double weight = 0;                                 // of a mismatch R of a in the residual
+  for (int j = 0; j < nc; j++) weight = std::max(weight, std::fabs(fp.P[j]) * factor.rReference[j] * law.residualWeight[j]);
+  std::vector<double> cFree(cFreeIn, cFreeIn + nc), c(nc), m(mInOut, mInOut + nc), x(nc), c0(nc), mTrial(nc), cTrial(nc);
+  roundoffScale(k, cFree.data(), m.data());
+  velocities(k, cFree.data(), m.data(), c.data());
+  double residual = law.evaluate(c.data(), m.data());
+  logIteration(k, 0, residual);
+  int unresolved = 0, it = 0;
+  bool done = stepConverged(k, residual, c.data(), unresolved), stalled = false;
+  std::vector<double> recent(20, 0.);
+  Anderson anderson(fp.window, nc);
+  const double delta = fp.delta[0], *P = fp.P.data(), *Q = fp.Q.data();
+  auto coarse = [&](const std::vector<double> &mm, double &size) {   // delta Q'm, and delta sum |Q_j m_j|
+    double sum = 0;
+    size = 0;
+    for (int j = 0; j < nc; j++) { sum += Q[j] * mm[j]; size += std::fabs(Q[j] * mm[j]); }
+    size *= delta;
+    return delta * sum;
+  };
+  double lastRoot[2] = {NAN, NAN};
+  while (!done && it < settings.maxit && std::isfinite(residual)) {
+    x = m;
+    for (int half = 0; half < 2; half++) {
+      const bool forward = half == 0;
+      c0 = cFree;                                    // cFree - D'm
+      const double minusOne = -1., one = 1.;
+      dgemv_("N", &nc, &nc, &minusOne, fp.deflated.data(), &nc, m.data(), &inc, &one, c0.data(), &inc);
+      double size = 0;
+      const double own = coarse(m, size);
+      auto R = [&](double a) {                       // the sweep from m with a held: mTrial, cTrial
+        mTrial = m;
+        for (int j = 0; j < nc; j++) cTrial[j] = c0[j] - P[j] * a;
+        fixedPointSweep(k, forward, cTrial.data(), mTrial.data(), fp.deflated.data(), fp.rhoDeflated.data());
+        double trialSize = 0;
+        return a - coarse(mTrial, trialSize);
+      };
+      const double enough = std::max(weight > 0 ? 0.1 * residual / weight : 0., 1e-13 * (std::fabs(own) + size));
+      double a = std::isfinite(lastRoot[half]) ? lastRoot[half] : own, r = R(a);
+      double below = NAN, rBelow = NAN, above = NAN, rAbove = NAN, previous = NAN, rPrevious = NAN;
+      auto note = [&]() { if (r < 0) { below = a; rBelow = r; } else { above = a; rAbove = r; } };
+      note();
+      for (int n = 0; std::fabs(r) > enough && n < 60; n++) {
+        const bool secant = std::isfinite(previous) && r != rPrevious;
+        double next;
+        if (std::isfinite(below) && std::isfinite(above)) {
+          if (std::fabs(above - below) <= 1e-15 * std::fabs(a)) break;
+          const double lo = std::min(below, above), hi = std::max(below, above);
+          next = secant ? a - r * (a - previous) / (r - rPrevious) : NAN;
+          if (!(next > lo && next < hi)) next = below - rBelow * (above - below) / (rAbove - rBelow);
+          if (!(next > lo && next < hi)) next = 0.5 * (lo + hi);
+        }
+        else {
+          const double slope = secant ? (r - rPrevious) / (a - previous) : 0;
+          if (slope > 0) fp.coarseSlope = slope;
+          next = a - r / fp.coarseSlope;
+          // not decreasing along the last step (R not monotone there): twice that step, away
+          if (secant && !(slope > 0)) next = a + 2 * std::fabs(a - previous) * (r > 0 ? -1. : 1.);
+        }
+        previous = a; rPrevious = r;
+        a = next; r = R(a);
+        note();
+      }
+      if (std::isfinite(previous) && a != previous && (r - rPrevious) / (a - previous) > 0) fp.coarseSlope = (r - rPrevious) / (a - previous);
+      lastRoot[half] = a;
+      m = mTrial;
+    }
+    it++;
+    velocities(k, cFree.data(), m.data(), c.data());
+    residual = law.evaluate(c.data(), m.data());
+    done = stepConverged(k, residual, c.data(), unresolved);
+    if (stalledNow(recent, it, residual, done)) {
+      stalled = true;
+      logIteration(k, it, residual);
+      break;
+    }
+    if (fp.window > 0 && !done && std::isfinite(residual) && anderson.mix(k, cFree.data(), x, c, m, residual, consistentAllowed))
+      done = stepConverged(k, residual, c.data(), unresolved);
+    logIteration(k, it, residual);
+  }
+  return fixedPointFinish(k, userR, c, m, residual, it, unresolved, stalled, done, cInOut, mInOut, info);
+}
 }  // namespace
 
 // One iteration of the map G from m (c is recomputed from m): the forward and backward sweeps;
@@ -315,6 +487,7 @@ long fixedPointStep(Kernel &k, const double *cFreeIn, double *cInOut, double *mI
   fixedPointPrepare(k);
   coarsePrepare(k);
   int before = 0;                                    // iterations of a two-level try that cycled
+  if (k.fixedPoint.K > 0 && law.hasPairs()) return consistentStep(k, cFreeIn, cInOut, mInOut, info);
   if (k.fixedPoint.K > 0) {
     std::vector<double> cStart(cInOut, cInOut + nc), mStart(mInOut, mInOut + nc);
     bool cycled = false;
@@ -338,9 +511,9 @@ long fixedPointStep(Kernel &k, const double *cFreeIn, double *cInOut, double *mI
   bool done = stepConverged(k, residual, c.data(), unresolved);
   // Anderson acceleration of the map G: m -> two sweeps (forward, backward), window fixedPoint.window
   const int window = fixedPoint.window;
-  std::vector<double> dX((size_t)window * nc), dF((size_t)window * nc), xPrev(nc), fPrev(nc), x(nc), f(nc), gm(nc), gc(nc);
-  int stored = 0, head = 0;
-  bool havePrev = false, stalled = false;
+  Anderson anderson(window, nc);
+  std::vector<double> x(nc);
+  bool stalled = false;
   std::vector<double> recent(20, 0.);                // the residuals of the last 20 iterations
   int it = 0;
   while (!done && it < settings.maxit && std::isfinite(residual)) {
@@ -360,56 +533,8 @@ long fixedPointStep(Kernel &k, const double *cFreeIn, double *cInOut, double *mI
       logIteration(k, it, residual);
       break;
     }
-    if (window > 0 && !done && std::isfinite(residual)) {
-      for (int j = 0; j < nc; j++) f[j] = m[j] - x[j];
-      if (havePrev) {
-        for (int j = 0; j < nc; j++) { dX[(size_t)head * nc + j] = x[j] - xPrev[j]; dF[(size_t)head * nc + j] = f[j] - fPrev[j]; }
-        head = (head + 1) % window;
-        stored = std::min(stored + 1, window);
-      }
-      xPrev = x; fPrev = f; havePrev = true;
-      if (stored > 0) {
-        // gamma = argmin |f - dF gamma| (normal equations, regularized)
-        const int w = stored;
-        std::vector<double> A((size_t)w * w), rhs(w);
-        double trace = 0;
-        for (int a = 0; a < w; a++) {
-          for (int b = 0; b < w; b++) {
-            double sum = 0;
-            for (int j = 0; j < nc; j++) sum += dF[(size_t)a * nc + j] * dF[(size_t)b * nc + j];
-            A[a + (size_t)b * w] = sum;
-          }
-          double sum = 0;
-          for (int j = 0; j < nc; j++) sum += dF[(size_t)a * nc + j] * f[j];
-          rhs[a] = sum;
-          trace += A[a + (size_t)a * w];
-        }
-        for (int a = 0; a < w; a++) A[a + (size_t)a * w] += 1e-12 * trace + 1e-300;
-        std::vector<int> piv(w);
-        int one = 1, info2 = 0;
-        dgetrf_(&w, &w, A.data(), &w, piv.data(), &info2);
-        if (info2 == 0) dgetrs_("N", &w, &one, A.data(), &w, piv.data(), rhs.data(), &w, &info2);
-        if (info2 == 0) {
-          gm = m; gc = c;
-          for (int j = 0; j < nc; j++) {
-            double s = 0;
-            for (int a = 0; a < w; a++) s += (dX[(size_t)a * nc + j] + dF[(size_t)a * nc + j]) * rhs[a];
-            m[j] = gm[j] - s;
-          }
-          exactVelocities();
-          const double accelerated = law.evaluate(c.data(), m.data());
-          if (accelerated <= residual) {
-            residual = accelerated;
-            done = stepConverged(k, residual, c.data(), unresolved);
-          }
-          else {                                     // not better: keep G's iterate, forget the history
-            m = gm; c = gc;
-            residual = law.evaluate(c.data(), m.data());
-            stored = 0; head = 0; havePrev = false;
-          }
-        }
-      }
-    }
+    if (window > 0 && !done && std::isfinite(residual) && anderson.mix(k, cFree.data(), x, c, m, residual))
+      done = stepConverged(k, residual, c.data(), unresolved);
     logIteration(k, it, residual);
   }
   return fixedPointFinish(k, userR, c, m, residual, before + it, unresolved, stalled, done, cInOut, mInOut, info);

@@ -265,6 +265,8 @@ struct FixedPointState {
   std::vector<double> coarseResponse, coarseRelationA, coarseRelationD;
   std::vector<int> coarseRelationASlot, coarseRelationDSlot;
   long coarseResponseGeneration = -1;
+  // the disk's coarse root (fixedpoint.cpp, consistentStep): the slope of R(a) last found
+  double coarseSlope = 1;
 };
 
 // -verbose: what the log said last (newton.cpp, logIteration)

@@ -235,8 +235,9 @@ def work_precision_table(bench, reference):
                        "estimate_error_x_B, estimate_error_x_C: the run's own estimates of its errors (summary.txt",
                        "error_estimate_v_L2, error_estimate_normal_force, error_estimate_x_B, error_estimate_x_C; nan when",
                        "absent; the first two relative), read against relative_error_L2, relative_error_normal_force,",
-                       "error_x_B_estimate, error_x_C_estimate on the uniform and adapted meshes only (families mesh,",
-                       "adapt1, adapt2: a run estimates its error in space, not the time, eps, tol or solver error)"],
+                       "error_x_B_estimate, error_x_C_estimate on the uniform and adapted meshes only (families",
+                       ", ".join(MESH_FAMILIES) + ": a run estimates its error in space, not the time, eps, tol or solver",
+                       "error); family adapt2z: two rounds with -adapt_zones 1e-3 (the mesh refined around x_B, x_C)"],
                       columns, rows)
     return columns, rows
 
@@ -251,8 +252,23 @@ def slope(xs, ys):
     return sum((p[0] - mx) * (p[1] - my) for p in pts) / sum((p[0] - mx) ** 2 for p in pts)
 
 
-RATE_FAMILIES = (("mesh", "uniform meshes"), ("adapt1", "adapted meshes, one round"),
-                 ("adapt2", "adapted meshes, two rounds"))
+# The families of the work-precision study, once: name, meaning, the chart's label, marker and
+# label offset. The first four differ from the reference by the mesh alone (MESH_FAMILIES):
+# their error is the error in space, which a run estimates; the others differ in the time
+# step, eps, tol or the solver.
+FAMILIES = (("mesh", "uniform meshes", "uniform mesh (k = 0.01)", "o-", ((3, 3), "left")),
+            ("adapt1", "adapted meshes, one round", "adapted, 1 round from 33x16 (-adapt_err)", "D-", ((3, -9), "left")),
+            ("adapt2", "adapted meshes, two rounds", "adapted, 2 rounds from 33x16 (-adapt_err)", "d-", ((-4, 3), "right")),
+            ("adapt2z", "adapted meshes, two rounds, -adapt_zones 1e-3",
+             "adapted, 2 rounds from 33x16, -adapt_zones 1e-3 (-adapt_err)", "h-", ((-4, -9), "right")),
+            ("dt", "time steps on 66x33", "time step k (66x33, against k = 0.00125)", "s-", ((3, -10), "left")),
+            ("full", "full-system Newton", "full-system Newton (66x33)", "^", ((3, 3), "left")),
+            ("penalty", "penalty eps", "penalty eps (66x33, against the original reference)", "v-", ((-4, 3), "right")),
+            ("tol-newton", "Newton's tol", "Newton, tol 1e-4 ... 1e-10 (66x33)", "P-", ((3, -8), "left")),
+            ("tol-fixedpoint", "the fixed point's tol", "fixed point, tol 1e-4 ... 1e-10 (66x33)", "X-", ((-4, -8), "right")))
+MESH_FAMILIES = tuple(f[0] for f in FAMILIES[:4])
+ADAPTED_FAMILIES = MESH_FAMILIES[1:]
+RATE_FAMILIES = tuple((f[0], f[1]) for f in FAMILIES[:4])
 
 
 def contact_rates(c, rows):
@@ -287,9 +303,8 @@ def rates_and_margin(bench, reference, columns, rows):
     c = {name: i for i, name in enumerate(columns)}
     ok = [r for r in rows if r[c["converged"]] and not math.isnan(r[c["relative_error_L2"]])]
     rate_rows = []
-    for family, meaning in (("mesh", "uniform meshes, in h (h ~ vertices^-1/2)"),
-                            ("adapt1", "adapted meshes, one round, in h = vertices^-1/2"),
-                            ("adapt2", "adapted meshes, two rounds, in h = vertices^-1/2")):
+    for family, meaning in RATE_FAMILIES:
+        meaning += " (h ~ vertices^-1/2)" if family == "mesh" else ", in h = vertices^-1/2"
         pts = [r for r in ok if r[c["family"]] == family]
         rate = slope([r[c["vertices"]] ** -0.5 for r in pts], [r[c["relative_error_L2"]] for r in pts])
         wall = -slope([r[c["wall"]] for r in pts], [r[c["relative_error_L2"]] for r in pts])
@@ -313,7 +328,7 @@ def rates_and_margin(bench, reference, columns, rows):
     check = run_record(bench, "check-adapted")
     e = check["error"]
     estimate = e.get("error_L2", NAN) / e["norm_L2"] if e.get("norm_L2") else NAN
-    space = [r[c["relative_error_L2"]] for r in ok if r[c["family"]] in ("mesh", "adapt1", "adapt2")]
+    space = [r[c["relative_error_L2"]] for r in ok if r[c["family"]] in MESH_FAMILIES]
     smallest = min(space) if space else NAN
     check_estimates = final_estimates(os.path.join(bench, "runs", "check-adapted")) if check["converged"] else (NAN, NAN)
     check_distances = [abs(a - b) for a, b in zip(check_estimates, final_estimates(reference))]
@@ -358,13 +373,12 @@ def print_contact_targets(c, ok, check_distances):
     the node positions (2e-3 m, adapted meshes) and the estimates between the nodes (1e-3 m, the
     project's target, uniform and adapted meshes); with none, the closest run under 1 s.
     check_distances: how far the check run's estimates lie from the reference's."""
-    for label, suffix, limit, text, families in (("x_B and x_C", "", 2e-3, "2e-3", ("adapt1", "adapt2")),
-                                                  ("x_B and x_C estimates", "_estimate", 1e-3, "1e-3",
-                                                   ("mesh", "adapt1", "adapt2"))):
+    for label, suffix, limit, text, families in (("x_B and x_C", "", 2e-3, "2e-3", ADAPTED_FAMILIES),
+                                                  ("x_B and x_C estimates", "_estimate", 1e-3, "1e-3", MESH_FAMILIES)):
         fast = sorted(((larger(r[c["error_x_B" + suffix]], r[c["error_x_C" + suffix]]), r[c["wall"]], r[c["run"]])
                        for r in ok if r[c["family"]] in families and r[c["wall"]] < 1), key=lambda t: (math.isnan(t[0]), t))
         met = [t for t in fast if t[0] <= limit]
-        where = "adapted" if len(families) == 2 else "uniform or adapted"
+        where = "adapted" if "mesh" not in families else "uniform or adapted"
         line = ", ".join(f"{run} ({wall:.2f} s, {error:.2e} m)" for error, wall, run in sorted(met, key=lambda t: t[1]))
         if not met:
             line = "none" + (f" (closest: {fast[0][2]}, {fast[0][0]:.2e} m in {fast[0][1]:.2f} s)"
@@ -438,17 +452,10 @@ def chart_work_precision(bench, columns, rows):
     c = {name: i for i, name in enumerate(columns)}
     fig, (ax, contact_ax, solver_ax) = plt.subplots(1, 3, figsize=(17, 4.8))
     contact_families = []                         # the legend of the middle panel: colour = family, line = quantity
-    labels = {"mesh": "uniform mesh (k = 0.01)", "adapt1": "adapted, 1 round from 33x16 (-adapt_err)",
-              "adapt2": "adapted, 2 rounds from 33x16 (-adapt_err)",
-              "dt": "time step k (66x33, against k = 0.00125)", "full": "full-system Newton (66x33)",
-              "penalty": "penalty eps (66x33, against the original reference)",
-              "tol-newton": "Newton, tol 1e-4 ... 1e-10 (66x33)", "tol-fixedpoint": "fixed point, tol 1e-4 ... 1e-10 (66x33)"}
+    labels = {f[0]: f[2] for f in FAMILIES}
     # label offsets per family, so that the labels around the 66x33 point do not overlap
-    offsets = {"mesh": ((3, 3), "left"), "adapt1": ((3, -9), "left"), "adapt2": ((-4, 3), "right"),
-               "dt": ((3, -10), "left"), "full": ((3, 3), "left"),
-               "penalty": ((-4, 3), "right"), "tol-newton": ((3, -8), "left"), "tol-fixedpoint": ((-4, -8), "right")}
-    for family, marker in (("mesh", "o-"), ("adapt1", "D-"), ("adapt2", "d-"), ("dt", "s-"), ("full", "^"),
-                           ("penalty", "v-"), ("tol-newton", "P-"), ("tol-fixedpoint", "X-")):
+    offsets = {f[0]: f[4] for f in FAMILIES}
+    for family, marker in ((f[0], f[3]) for f in FAMILIES):
         pts = sorted((r for r in rows if r[c["family"]] == family and r[c["converged"]]
                       and not math.isnan(r[c["relative_error_L2"]])), key=lambda r: parameter_order(r[c["run"]]))
         if not pts:
@@ -459,7 +466,7 @@ def chart_work_precision(bench, columns, rows):
             ax.annotate(name.split("-")[-1] if family.startswith("tol") else name.split("-", 2)[-1],
                         (r[c["wall"]], r[c["relative_error_L2"]]),
                         fontsize=6, xytext=offsets[family][0], textcoords="offset points", ha=offsets[family][1])
-        if family in ("mesh", "adapt1", "adapt2"):
+        if family in MESH_FAMILIES:
             color = ax.get_lines()[-1].get_color()
             walls = [r[c["wall"]] for r in pts]
             contact_ax.loglog(walls, [floored(larger(r[c["error_x_B"]], r[c["error_x_C"]])) for r in pts], marker, color=color)
@@ -516,9 +523,6 @@ def estimate_pairs(columns, rows):
     return pairs
 
 
-# the families whose runs differ from the reference by the mesh alone: the error in space a
-# run estimates (the time steps, eps, tol and solver families differ in other ways)
-MESH_FAMILIES = ("mesh", "adapt1", "adapt2")
 
 
 def chart_error_estimates(bench, pairs):

@@ -103,11 +103,13 @@ for m in "${wp_meshes[@]}"; do
   run "wp-mesh-${1}x${2}" -nx "$1" -ny "$2"
 done
 # adapted meshes: one or two rounds from 33x16, each -adapt_err (the whole run timed, its
-# pilot runs included)
-errs1=(4e-3 2e-3 1e-3 5e-4 2.5e-4); errs2=(1e-3 7e-4 5e-4 2.5e-4)
-[ "$quick" = 1 ] && { errs1=(2e-3 1e-3 5e-4); errs2=(1e-3); }
+# pilot runs included); two rounds with -adapt_zones 1e-3 as well (the family adapt2z: the
+# last mesh refined around the zone boundaries the last pilot found, for x_B and x_C)
+errs1=(4e-3 2e-3 1e-3 5e-4 2.5e-4); errs2=(1e-3 7e-4 5e-4 2.5e-4); errs2z=(2e-3 1e-3 7e-4)
+[ "$quick" = 1 ] && { errs1=(2e-3 1e-3 5e-4); errs2=(1e-3); errs2z=(1e-3); }
 for e in "${errs1[@]}"; do run "wp-adapt1-$e" -nx 33 -ny 16 -adapt 1 -adapt_err "$e"; done
 for e in "${errs2[@]}"; do run "wp-adapt2-$e" -nx 33 -ny 16 -adapt 2 -adapt_err "$e"; done
+for e in "${errs2z[@]}"; do run "wp-adapt2z-$e" -nx 33 -ny 16 -adapt 2 -adapt_err "$e" -adapt_zones 1e-3; done
 # step / floor on the adapted meshes: each mesh run again with -mesh (no pilot), several times,
 # the median ratio per mesh in steps_adapted.txt (the ratios of small meshes move with the
 # machine from run to run)

@@ -27,6 +27,7 @@
 // after it (a scalar root, found by secant steps; consistentStep): a splitting of Dw that
 // converges whatever delta (docs/stability.md, "The fixed point on hard bodies").
 #include <algorithm>
+#include <cfloat>
 #include <cmath>
 #include "blas.hpp"
 #include "kernel.hpp"
@@ -367,7 +368,9 @@ long twoLevelStep(Kernel &k, const double *cFreeIn, double *cInOut, double *mInO
 // presses the slots harder), piecewise smooth: found from the last root of the same half (the
 // first: a = delta Q'm) by secant steps on the slope last found, then, once bracketed, secant
 // steps kept inside the bracket (bisection when one leaves it), until the mismatch R moves the
-// residual by at most a tenth of the last natural residual (weight |R|), or by round-off.
+// residual by at most a tenth of the last natural residual (weight |R|), or R is within one
+// rounding of delta Q'm, or no double is left inside the bracket. a is held as base + s (base
+// the start), so that the root is not limited by the last place of a: R is steep in a.
 // Every R costs a sweep (counted: fixed_point_sweeps). The iterates of the map m -> both halves
 // are mixed by Anderson, as the one-level fixed point's. The stopping and the stall tests, and
 // the outputs, are fixedPointStep's.
@@ -382,7 +385,7 @@ long consistentStep(Kernel &k, const double *cFreeIn, double *cInOut, double *mI
   for (int j = 0; j < nc; j++) law.setAugmentation(j, factor.rReference[j]);
   double weight = 0;                                 // of a mismatch R of a in the residual
   for (int j = 0; j < nc; j++) weight = std::max(weight, std::fabs(fp.P[j]) * factor.rReference[j] * law.residualWeight[j]);
-  std::vector<double> cFree(cFreeIn, cFreeIn + nc), c(nc), m(mInOut, mInOut + nc), x(nc), c0(nc), mTrial(nc), cTrial(nc);
+  std::vector<double> cFree(cFreeIn, cFreeIn + nc), c(nc), m(mInOut, mInOut + nc), x(nc), cBase(nc), mTrial(nc), cTrial(nc);
   roundoffScale(k, cFree.data(), m.data());
   velocities(k, cFree.data(), m.data(), c.data());
   double residual = law.evaluate(c.data(), m.data());
@@ -404,46 +407,50 @@ long consistentStep(Kernel &k, const double *cFreeIn, double *cInOut, double *mI
     x = m;
     for (int half = 0; half < 2; half++) {
       const bool forward = half == 0;
-      c0 = cFree;                                    // cFree - D'm
-      const double minusOne = -1., one = 1.;
-      dgemv_("N", &nc, &nc, &minusOne, fp.deflated.data(), &nc, m.data(), &inc, &one, c0.data(), &inc);
       double size = 0;
       const double own = coarse(m, size);
-      auto R = [&](double a) {                       // the sweep from m with a held: mTrial, cTrial
+      // a = base + s: the sweeps start from cFree - D'm - P base, and s keeps the digits that
+      // |a| would lose (R's slope is steep: one unit in the last place of a moves R by 1e3 of it)
+      const double base = std::isfinite(lastRoot[half]) ? lastRoot[half] : own;
+      // from the velocities the test reads, cFree - Dw m = cFree - D'm - P own (the sweeps then
+      // go to the iterate that the test, not a rounding of its split, finds consistent)
+      velocities(k, cFree.data(), m.data(), cBase.data());
+      for (int j = 0; j < nc; j++) cBase[j] += P[j] * (own - base);
+      auto R = [&](double s) {                       // the sweep from m with a = base + s held: mTrial, cTrial
         mTrial = m;
-        for (int j = 0; j < nc; j++) cTrial[j] = c0[j] - P[j] * a;
+        for (int j = 0; j < nc; j++) cTrial[j] = cBase[j] - P[j] * s;
         fixedPointSweep(k, forward, cTrial.data(), mTrial.data(), fp.deflated.data(), fp.rhoDeflated.data());
         double trialSize = 0;
-        return a - coarse(mTrial, trialSize);
+        return s + (base - coarse(mTrial, trialSize));
       };
-      const double enough = std::max(weight > 0 ? 0.1 * residual / weight : 0., 1e-13 * (std::fabs(own) + size));
-      double a = std::isfinite(lastRoot[half]) ? lastRoot[half] : own, r = R(a);
+      const double enough = std::max(weight > 0 ? 0.1 * residual / weight : 0., DBL_EPSILON * (std::fabs(own) + size));
+      double s = 0, r = R(s);
       double below = NAN, rBelow = NAN, above = NAN, rAbove = NAN, previous = NAN, rPrevious = NAN;
-      auto note = [&]() { if (r < 0) { below = a; rBelow = r; } else { above = a; rAbove = r; } };
+      auto note = [&]() { if (r < 0) { below = s; rBelow = r; } else { above = s; rAbove = r; } };
       note();
       for (int n = 0; std::fabs(r) > enough && n < 60; n++) {
         const bool secant = std::isfinite(previous) && r != rPrevious;
         double next;
         if (std::isfinite(below) && std::isfinite(above)) {
-          if (std::fabs(above - below) <= 1e-15 * std::fabs(a)) break;
-          const double lo = std::min(below, above), hi = std::max(below, above);
-          next = secant ? a - r * (a - previous) / (r - rPrevious) : NAN;
+          const double lo = std::min(below, above), hi = std::max(below, above), middle = 0.5 * (lo + hi);
+          if (!(middle > lo && middle < hi)) break;                      // no double between: R's resolution
+          next = secant ? s - r * (s - previous) / (r - rPrevious) : NAN;
           if (!(next > lo && next < hi)) next = below - rBelow * (above - below) / (rAbove - rBelow);
-          if (!(next > lo && next < hi)) next = 0.5 * (lo + hi);
+          if (!(next > lo && next < hi)) next = middle;
         }
         else {
-          const double slope = secant ? (r - rPrevious) / (a - previous) : 0;
+          const double slope = secant ? (r - rPrevious) / (s - previous) : 0;
           if (slope > 0) fp.coarseSlope = slope;
-          next = a - r / fp.coarseSlope;
+          next = s - r / fp.coarseSlope;
           // not decreasing along the last step (R not monotone there): twice that step, away
-          if (secant && !(slope > 0)) next = a + 2 * std::fabs(a - previous) * (r > 0 ? -1. : 1.);
+          if (secant && !(slope > 0)) next = s + 2 * std::fabs(s - previous) * (r > 0 ? -1. : 1.);
         }
-        previous = a; rPrevious = r;
-        a = next; r = R(a);
+        previous = s; rPrevious = r;
+        s = next; r = R(s);
         note();
       }
-      if (std::isfinite(previous) && a != previous && (r - rPrevious) / (a - previous) > 0) fp.coarseSlope = (r - rPrevious) / (a - previous);
-      lastRoot[half] = a;
+      if (std::isfinite(previous) && s != previous && (r - rPrevious) / (s - previous) > 0) fp.coarseSlope = (r - rPrevious) / (s - previous);
+      lastRoot[half] = base + s;
       m = mTrial;
     }
     it++;

@@ -25,7 +25,10 @@
 // sweeps with a held go to the solution at that a, which is steep in a. There, with one mode
 // split off, each half-sweep on D' takes the a with which it ends consistent, a = delta Q'm
 // after it (a scalar root, found by secant steps; consistentStep): a splitting of Dw that
-// converges whatever delta (docs/stability.md, "The fixed point on hard bodies").
+// converges whatever delta (docs/stability.md, "The fixed point on hard bodies"). A thin
+// plate's bending gives Dw a few more modes far above the bulk of its spectrum (no gap between
+// them): with the mode above the gap, those above coarseGap^2 times the median eigenvalue are
+// split off too, and the root is then one in K unknowns (consistentRoots: Broyden).
 #include <algorithm>
 #include <cfloat>
 #include <cmath>
@@ -172,7 +175,8 @@ struct Anderson {
 
 // The two levels (see the head of this file): K and the split of Dw, once per Delassus matrix.
 // K = 0 (one level) where no gap between the top eigenvalues exceeds coarseGap, and in 3D (the
-// disk) unless that gap sets one mode apart.
+// disk) unless that gap sets one mode apart; in 3D, K then grows by the modes above
+// coarseGap^2 times the median eigenvalue (at most coarseModesMax).
 const int coarseModesMax = 8;                        // at most this many modes split off
 const double coarseGap = 10;                         // ... when the gap is above this ratio
 void coarsePrepare(Kernel &k) {
@@ -202,7 +206,11 @@ void coarsePrepare(Kernel &k) {
     const double ratio = eig[nc - kk] / std::max(eig[nc - kk - 1], 1e-300 * eig[nc - 1]);
     if (ratio > gap) { gap = ratio; K = kk; }
   }
-  if (!(gap > coarseGap) || (disk && K != 1)) return;   // the disk: one mode only (consistentStep)
+  if (!(gap > coarseGap) || (disk && K != 1)) return;   // the disk: one mode above the gap
+  // the disk: with it, the modes that stand coarseGap^2 above the median eigenvalue (the bulk
+  // of the spectrum: a slot's own compliance), the bending of a thin plate (consistentRoots)
+  if (disk)
+    while (K < std::min(coarseModesMax, nc - 1) && eig[nc - 1 - K] > coarseGap * coarseGap * eig[nc / 2]) K++;
   const double below = eig[nc - K - 1];
   fp.K = K;
   fp.delta.assign(K, 0.); fp.P.assign((size_t)K * nc, 0.); fp.Q.assign((size_t)K * nc, 0.);
@@ -223,6 +231,19 @@ void coarsePrepare(Kernel &k) {
   // alone, 1 + delta sum Q_j P_j / D'_jj
   fp.coarseSlope = 1;
   for (int j = 0; j < nc; j++) fp.coarseSlope += fp.delta[0] * fp.Q[j] * fp.P[j] / fp.deflated[j + (size_t)j * nc];
+  fp.coarseJacobian.clear();
+}
+
+// The disk's first Jacobian of R(a) with K modes: I + diag(delta) Q' diag(1/D') P, every slot's
+// response to a alone (coarseSlope's, K x K)
+void coarseFirstJacobian(const FixedPointState &fp, int nc, std::vector<double> &J) {
+  const int K = fp.K;
+  J.assign((size_t)K * K, 0.);
+  for (int r = 0; r < K; r++) for (int q = 0; q < K; q++) {
+    double sum = 0;
+    for (int j = 0; j < nc; j++) sum += fp.Q[(size_t)r * nc + j] * fp.P[(size_t)q * nc + j] / fp.deflated[j + (size_t)j * nc];
+    J[r + (size_t)q * K] = (r == q ? 1. : 0.) + fp.delta[r] * sum;
+  }
 }
 
 // a = delta Q'm: the velocity of the split-off modes that m gives
@@ -359,6 +380,87 @@ long twoLevelStep(Kernel &k, const double *cFreeIn, double *cInOut, double *mInO
   }
   return fixedPointFinish(k, userR, c, m, residual, it, unresolved, stalled, done, cInOut, mInOut, info);
 }
+// The disk's two levels with K > 1 modes: one half of consistentStep's iteration, its root
+// R(a) = a - diag(delta) Q'm_a = 0 in K unknowns, a = base + s as with one mode; damped Newton
+// steps on the Jacobian last found (first: coarseFirstJacobian), kept up to date by Broyden's
+// update at every evaluation of R, each step halved (at most 10 times) until the weighted
+// mismatch sum_k weight_k |R_k| falls. Stops when that mismatch is at most a tenth of the
+// residual, or every R_k is within one rounding of delta_k Q_k'm, or after 60 sweeps, or when
+// no step lowers it. m becomes the sweep's at the root; lastRoot its a.
+void consistentRoots(Kernel &k, bool forward, const std::vector<double> &cFree, std::vector<double> &m, double residual,
+                     const std::vector<double> &weights, std::vector<double> &lastRoot) {
+  FixedPointState &fp = k.fixedPoint;
+  const int nc = k.factor.nc, K = fp.K, one = 1;
+  const double *P = fp.P.data(), *Q = fp.Q.data();
+  std::vector<double> own(K), size(K), base(K), cBase(nc), cTrial(nc), mTrial(nc), mBest(m);
+  for (int kk = 0; kk < K; kk++) {
+    double sum = 0, sz = 0;
+    for (int j = 0; j < nc; j++) { sum += Q[(size_t)kk * nc + j] * m[j]; sz += std::fabs(Q[(size_t)kk * nc + j] * m[j]); }
+    own[kk] = fp.delta[kk] * sum; size[kk] = fp.delta[kk] * sz;
+    base[kk] = std::isfinite(lastRoot[kk]) ? lastRoot[kk] : own[kk];
+  }
+  velocities(k, cFree.data(), m.data(), cBase.data());
+  for (int kk = 0; kk < K; kk++) for (int j = 0; j < nc; j++) cBase[j] += P[(size_t)kk * nc + j] * (own[kk] - base[kk]);
+  int sweeps = 0;
+  auto R = [&](const std::vector<double> &s, std::vector<double> &r) {
+    mTrial = m;
+    cTrial = cBase;
+    for (int kk = 0; kk < K; kk++) for (int j = 0; j < nc; j++) cTrial[j] -= P[(size_t)kk * nc + j] * s[kk];
+    fixedPointSweep(k, forward, cTrial.data(), mTrial.data(), fp.deflated.data(), fp.rhoDeflated.data());
+    sweeps++;
+    for (int kk = 0; kk < K; kk++) {
+      double sum = 0;
+      for (int j = 0; j < nc; j++) sum += Q[(size_t)kk * nc + j] * mTrial[j];
+      r[kk] = s[kk] + (base[kk] - fp.delta[kk] * sum);
+    }
+  };
+  auto mismatch = [&](const std::vector<double> &r) {
+    double sum = 0;
+    for (int kk = 0; kk < K; kk++) sum += weights[kk] * std::fabs(r[kk]);
+    return sum;
+  };
+  double weightSum = 0;
+  for (int kk = 0; kk < K; kk++) weightSum += weights[kk];
+  auto small = [&](const std::vector<double> &r) {
+    if (weightSum > 0 && mismatch(r) <= 0.1 * residual) return true;
+    for (int kk = 0; kk < K; kk++) if (std::fabs(r[kk]) > DBL_EPSILON * (std::fabs(own[kk]) + size[kk])) return false;
+    return true;
+  };
+  std::vector<double> s(K, 0.), r(K), sNew(K), rNew(K), ds(K), LU((size_t)K * K);
+  std::vector<int> pivots(K);
+  R(s, r);
+  mBest = mTrial;
+  std::vector<double> &J = fp.coarseJacobian;
+  if (J.size() != (size_t)K * K) coarseFirstJacobian(fp, nc, J);
+  while (!small(r) && sweeps < 60) {
+    int info = 0;
+    LU = J; ds = r;
+    dgetrf_(&K, &K, LU.data(), &K, pivots.data(), &info);
+    if (info == 0) dgetrs_("N", &K, &one, LU.data(), &K, pivots.data(), ds.data(), &K, &info);
+    bool finite = info == 0;
+    for (int kk = 0; kk < K; kk++) finite = finite && std::isfinite(ds[kk]);
+    if (!finite) { coarseFirstJacobian(fp, nc, J); continue; }
+    bool accepted = false;
+    double t = 1;
+    for (int h = 0; h <= 10 && sweeps < 60; h++, t *= 0.5) {
+      for (int kk = 0; kk < K; kk++) sNew[kk] = s[kk] - t * ds[kk];
+      R(sNew, rNew);
+      // Broyden: J += (dr - J ds) ds' / ds'ds
+      double dd = 0;
+      for (int kk = 0; kk < K; kk++) dd += (sNew[kk] - s[kk]) * (sNew[kk] - s[kk]);
+      if (dd > 0) for (int rr = 0; rr < K; rr++) {
+        double u = rNew[rr] - r[rr];
+        for (int q = 0; q < K; q++) u -= J[rr + (size_t)q * K] * (sNew[q] - s[q]);
+        for (int q = 0; q < K; q++) J[rr + (size_t)q * K] += u * (sNew[q] - s[q]) / dd;
+      }
+      if (mismatch(rNew) < mismatch(r) || small(rNew)) { s = sNew; r = rNew; mBest = mTrial; accepted = true; break; }
+    }
+    if (!accepted) break;
+  }
+  for (int kk = 0; kk < K; kk++) lastRoot[kk] = base[kk] + s[kk];
+  m = mBest;
+}
+
 // The disk's two levels (3D, K = 1: see the head of this file). One sweep on D' from m with the
 // coarse velocity a held gives m_a; R(a) = a - delta Q'm_a is the mismatch of a with the
 // velocity m_a gives. Each half of an iteration (the forward sweep, then the backward one)
@@ -403,10 +505,18 @@ long consistentStep(Kernel &k, const double *cFreeIn, double *cInOut, double *mI
     return delta * sum;
   };
   double lastRoot[2] = {NAN, NAN};
+  const int K = fp.K;
+  std::vector<double> lastRoots[2] = {std::vector<double>(K, NAN), std::vector<double>(K, NAN)}, weights(K, 0.);
+  for (int kk = 0; kk < K; kk++) for (int j = 0; j < nc; j++)
+    weights[kk] = std::max(weights[kk], std::fabs(P[(size_t)kk * nc + j]) * factor.rReference[j] * law.residualWeight[j]);
   while (!done && it < settings.maxit && std::isfinite(residual)) {
     x = m;
     for (int half = 0; half < 2; half++) {
       const bool forward = half == 0;
+      if (K > 1) {
+        consistentRoots(k, forward, cFree, m, residual, weights, lastRoots[half]);
+        continue;
+      }
       double size = 0;
       const double own = coarse(m, size);
       // a = base + s: the sweeps start from cFree - D'm - P base, and s keeps the digits that

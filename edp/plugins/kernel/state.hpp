@@ -267,6 +267,8 @@ struct FixedPointState {
   long coarseResponseGeneration = -1;
   // the disk's coarse root (fixedpoint.cpp, consistentStep): the slope of R(a) last found
   double coarseSlope = 1;
+  // ... with K > 1 modes: the Jacobian of R(a) last found (K x K, column-major; Broyden)
+  std::vector<double> coarseJacobian;
 };
 
 // -verbose: what the log said last (newton.cpp, logIteration)

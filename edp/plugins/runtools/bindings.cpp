@@ -75,7 +75,7 @@ long runWriteMsh22(pmesh const &mesh, string *const &file) {
   text += "$EndElements\n";
   const int fd = open(file->c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0666);
   if (fd < 0) return 1;
-  const bool ok = writeAll(fd, text.data(), text.size());
+  const bool ok = writeAll(fd, text.data(), text.size()) && fsync(fd) == 0;   // on the disk, as the mesh checker's files
   return close(fd) == 0 && ok ? 0 : 1;
 }
 

@@ -177,6 +177,7 @@ struct Anderson {
 // K = 0 (one level) where no gap between the top eigenvalues exceeds coarseGap, and in 3D (the
 // disk) unless that gap sets one mode apart; in 3D, K then grows by the modes above
 // coarseGap^2 times the median eigenvalue (at most coarseModesMax).
+void coarseSplit(Kernel &k, int K);
 const int coarseModesMax = 8;                        // at most this many modes split off
 const double coarseGap = 10;                         // ... when the gap is above this ratio
 void coarsePrepare(Kernel &k) {
@@ -211,6 +212,16 @@ void coarsePrepare(Kernel &k) {
   // of the spectrum: a slot's own compliance), the bending of a thin plate (consistentRoots)
   if (disk)
     while (K < std::min(coarseModesMax, nc - 1) && eig[nc - 1 - K] > coarseGap * coarseGap * eig[nc / 2]) K++;
+  fp.coarseVectors.swap(A);
+  fp.coarseValues.swap(eig);
+  coarseSplit(k, K);
+}
+
+// Dw split into its K stiffest modes (the eigenpairs coarsePrepare kept) and the rest
+void coarseSplit(Kernel &k, int K) {
+  FixedPointState &fp = k.fixedPoint;
+  const int nc = k.factor.nc;
+  const std::vector<double> &w = k.nodes.slotWeight, &Dw = k.factor.Dw, &A = fp.coarseVectors, &eig = fp.coarseValues;
   const double below = eig[nc - K - 1];
   fp.K = K;
   fp.delta.assign(K, 0.); fp.P.assign((size_t)K * nc, 0.); fp.Q.assign((size_t)K * nc, 0.);
@@ -432,6 +443,7 @@ void consistentRoots(Kernel &k, bool forward, const std::vector<double> &cFree, 
   mBest = mTrial;
   std::vector<double> &J = fp.coarseJacobian;
   if (J.size() != (size_t)K * K) coarseFirstJacobian(fp, nc, J);
+  bool fresh = false;                                // J is the first Jacobian (a second non-finite step ends the root)
   while (!small(r) && sweeps < 60) {
     int info = 0;
     LU = J; ds = r;
@@ -439,7 +451,9 @@ void consistentRoots(Kernel &k, bool forward, const std::vector<double> &cFree, 
     if (info == 0) dgetrs_("N", &K, &one, LU.data(), &K, pivots.data(), ds.data(), &K, &info);
     bool finite = info == 0;
     for (int kk = 0; kk < K; kk++) finite = finite && std::isfinite(ds[kk]);
-    if (!finite) { coarseFirstJacobian(fp, nc, J); continue; }
+    if (!finite && fresh) break;                     // (a review: no loop without a sweep)
+    if (!finite) { coarseFirstJacobian(fp, nc, J); fresh = true; continue; }
+    fresh = false;
     bool accepted = false;
     double t = 1;
     for (int h = 0; h <= 10 && sweeps < 60; h++, t *= 0.5) {
@@ -604,7 +618,23 @@ long fixedPointStep(Kernel &k, const double *cFreeIn, double *cInOut, double *mI
   fixedPointPrepare(k);
   coarsePrepare(k);
   int before = 0;                                    // iterations of a two-level try that cycled
-  if (k.fixedPoint.K > 0 && law.hasPairs()) return consistentStep(k, cFreeIn, cInOut, mInOut, info);
+  if (k.fixedPoint.K > 0 && law.hasPairs()) {
+    const int modes = k.fixedPoint.K;
+    std::vector<double> cStart(cInOut, cInOut + nc), mStart(mInOut, mInOut + nc);
+    const long it = consistentStep(k, cFreeIn, cInOut, mInOut, info);
+    if (it >= 0 || modes == 1) return it;
+    // K > 1 modes did not converge (found by a review: the plate without friction stalls where
+    // two nodes reach the bound; a stiffer or nearly incompressible block takes a second mode
+    // and fails at step 1): the step again from its start with the one mode above the gap,
+    // and so every step after it (the Delassus matrix is the run's); its iterations count too
+    const double spent = info[InfoIterations];
+    std::copy(cStart.begin(), cStart.end(), cInOut);
+    std::copy(mStart.begin(), mStart.end(), mInOut);
+    coarseSplit(k, 1);
+    const long again = consistentStep(k, cFreeIn, cInOut, mInOut, info);
+    info[InfoIterations] += spent;
+    return again < 0 ? -1 : again + (long)spent;
+  }
   if (k.fixedPoint.K > 0) {
     std::vector<double> cStart(cInOut, cInOut + nc), mStart(mInOut, mInOut + nc);
     bool cycled = false;

@@ -261,6 +261,9 @@ struct FixedPointState {
   long coarseGeneration = -1;
   int K = 0;
   std::vector<double> deflated, P, Q, delta, rhoDeflated;
+  // the symmetrized Dw's eigenpairs (ascending), kept to split off fewer modes: the disk's K > 1
+  // falls back to one mode for the rest of the run when a step does not converge with K
+  std::vector<double> coarseVectors, coarseValues;
   // the coarse step's response X = dm/da, kept while the relations it came from repeat
   std::vector<double> coarseResponse, coarseRelationA, coarseRelationD;
   std::vector<int> coarseRelationASlot, coarseRelationDSlot;

@@ -187,6 +187,13 @@ report $status "check_results.py: a released column passes --column; a node of m
 # ---- the law's values on the command line are named (exit 2), and a bound profile whose knots'
 # distance overflows still interpolates
 expect_failure "-g bound_profile without a bound_profile in the scene" 2 "option -g bound_profile: .*paper.scene gives no bound_profile; give -g a number > 0" "${coarse[@]}" -g bound_profile
+# a g far above every velocity: the test and the checks, relative to g, are blind: said
+diag="$work/huge-g.diag"; : > "$diag"; status=0
+rm -rf "$work/huge-g"
+solve "${coarse[@]}" -g 1e20 -out "$work/huge-g" > "$work/huge-g.log" 2>&1 || status=1
+grep -q "^note: the bound g (1e+20 at its smallest) is .* times the largest velocity of the run" "$work/huge-g.log" \
+  || { echo "-g 1e20: no note"; cat "$work/huge-g.log"; status=1; } >> "$diag"
+report $status "-g 1e20, far above the velocities: a note that the test and the checks, relative to g, were that much looser" "$diag"
 expect_failure "-g 1e-300: p(g) below what the residual can weigh, the option named" 3 "option -g 1e-300 with .*paper.scene:[0-9]+ \\(damping\\): the law of edp/plugins/contactlaw.hpp cannot be used: p\\(g\\) = 5e-299" "${coarse[@]}" -g 1e-300
 diag="$work/profile-span.diag"; : > "$diag"; status=0
 sed 's/^g 0.05/bound_profile -1.7e308 0.03 1.7e308 0.07/' edp/scenes/paper.scene > "$work/profile-span.scene"

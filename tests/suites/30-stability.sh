@@ -101,7 +101,7 @@ for body in twisted3d sloped3d; do
   done
 done
 report $status "hard bodies, 3D: the twisted and the sloped block at Newton's defaults (mu 0.7, 1): physics checks, the outputs of -r 10 to 1e-9" "$diag"
-# The twisted block at mu 1 on 16 x 8 x 4 (issue 31): exit 4 at step 1 before the watchdog could
+# The twisted block at mu 1 on 16 x 8 x 4: exit 4 at step 1 before the watchdog could
 # start again after going back (docs/stability.md, "What Newton does now"; -maxit 300: 79 in
 # that step); now at most 30 iterations in any step, the physics checks, and the outputs of
 # -r 10 (another path) to 1e-9

@@ -101,6 +101,18 @@ for body in twisted3d sloped3d; do
   done
 done
 report $status "hard bodies, 3D: the twisted and the sloped block at Newton's defaults (mu 0.7, 1): physics checks, the outputs of -r 10 to 1e-9" "$diag"
+# The twisted block at mu 1 on 16 x 8 x 4: exit 4 at step 1 before the watchdog could
+# start again after going back (docs/stability.md, "What Newton does now"; -maxit 300: 79 in
+# that step); now at most 30 iterations in any step, the physics checks, and the outputs of
+# -r 10 (another path) to 1e-9
+diag="$work/hard-3d-fine.diag"; : > "$diag"; status=0
+if hard "twisted3d-fine" -scene twisted3d -mu 1 -nx 16 -ny 8 -nz 4; then
+  most="$(awk '$1 == "iterations_max" { print $2 }' "$work/hard-twisted3d-fine/summary.txt")"
+  [ -n "$most" ] && [ "$most" -le 30 ] || { echo "twisted3d -mu 1 16 x 8 x 4: $most iterations in a step (at most 30 expected)" >> "$diag"; status=1; }
+  hard "twisted3d-fine-r10" -scene twisted3d -mu 1 -nx 16 -ny 8 -nz 4 -r 10 \
+    && { "$PYTHON" tests/check_results.py "$work/hard-twisted3d-fine-r10" --compare "$work/hard-twisted3d-fine" --rtol 1e-9 >> "$diag" 2>&1 || { echo "twisted3d -mu 1 16 x 8 x 4: not the outputs of -r 10 to 1e-9" >> "$diag"; status=1; }; }
+fi
+report $status "hard bodies, 3D: the twisted block at mu 1 on 16 x 8 x 4 at Newton's defaults: at most 30 iterations a step, physics checks, the outputs of -r 10 to 1e-9" "$diag"
 # The fixed point on the 3D blocks (the disk's two levels: fixedpoint.cpp, consistentStep), at
 # its defaults: exit 0, the physics checks and Newton's outputs (the runs above) to 1e-9; at
 # most 200 iterations in any step on the twisted and the sloped block at mu 0.7 and 1 (the

@@ -493,12 +493,13 @@ bool stepConverged(Kernel &k, double residual, const double *c, int &unresolved)
 // the reference (the iterate kept when it started) by the Armijo margin; if none does, or an
 // iterate comes back to (nearly) the pieces of one kept before with no lower merit (a cycle), the
 // iterate goes back to the reference and the monotone safeguard goes on, the watchdog not
-// starting again before a Newton iterate passes. A slip front spreading along a curved face
+// starting again before a Newton iterate passes or the merit has halved since. A slip front spreading along a curved face
 // raises the merit at every Newton iterate of a step that converges in about ten (the half-disk:
 // docs/stability.md, "Hard bodies"); two replacements in a row,
 // not one, because a step of the paper's block starts with two, which its references record.
 namespace {
 const int watchdogLength = 12;
+const double watchdogRestart = 0.5;   // a spent watchdog may start again below this times its reference's merit
 bool accept(const SolverSettings &settings, double merit, double trialMerit, double trialResidual, double step = 1) {
   return trialMerit < (1 - 1e-4 * step) * merit || trialResidual <= settings.tol;
 }
@@ -546,7 +547,7 @@ int safeguardStep(Kernel &k, const double *cFree, const double *previous, const 
     watch.keys.push_back(k.law.key);
     watch.merits.push_back(trial);
     if ((int)watch.keys.size() < watchdogLength && !cycle) { merit = trial; return WatchdogKept; }
-    watch.active = false; watch.spent = true;           // none lowered the reference's merit: back to it
+    watch.active = false; watch.spent = true; watch.replacedInRow = 0;   // none lowered the reference's merit: back to it
     std::copy(watch.m.begin(), watch.m.end(), m);
     std::copy(watch.c.begin(), watch.c.end(), c);
     residual = referenceEvaluate(k, c, m, merit);
@@ -557,6 +558,11 @@ int safeguardStep(Kernel &k, const double *cFree, const double *previous, const 
   if (accept(settings, before, trial, residual)) { merit = trial; watch.replacedInRow = 0; watch.spent = false; return NewtonKept; }
   const int outcome = replaceNewtonIterate(k, cFree, previous, newtonM, before, trial, c, m, merit, residual, step);
   if (outcome == NewtonKept) return outcome;
+  // spent: not again before a Newton iterate passes, or before the monotone safeguard has
+  // halved the merit of the iterate it went back to (the iterate has moved away from where
+  // Newton cycled, and Newton from there takes another path: the twisted block at mu = 1 on
+  // 16 x 8 x 4 crept 64 iterations at step 1 after its watchdog found a 2-cycle)
+  if (watch.spent && merit < watchdogRestart * watch.merit) watch.spent = false;
   if (++watch.replacedInRow >= 2 && !watch.spent) {
     watch.active = true; watch.merit = merit;
     watch.keys.clear(); watch.merits.clear();

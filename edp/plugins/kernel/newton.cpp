@@ -561,8 +561,14 @@ int safeguardStep(Kernel &k, const double *cFree, const double *previous, const 
   // spent: not again before a Newton iterate passes, or before the monotone safeguard has
   // halved the merit of the iterate it went back to (the iterate has moved away from where
   // Newton cycled, and Newton from there takes another path: the twisted block at mu = 1 on
-  // 16 x 8 x 4 crept 64 iterations at step 1 after its watchdog found a 2-cycle)
-  if (watch.spent && merit < watchdogRestart * watch.merit) watch.spent = false;
+  // 16 x 8 x 4 crept 64 iterations at step 1 after its watchdog found a 2-cycle). Only where
+  // the cycle guard cannot break cycles by halving r (r at the operator's scale or below, as
+  // the default), and once a step: above it a review found the restart hurt the paper's block
+  // (at r >= 1e3 the merit halves within one or two safeguarded iterations, the watchdog went
+  // back and forth five times in step 1 and reached the cap at r = 5e3; 132 x 66 at r = 1e4
+  // even with one restart)
+  const double rScale = k.law.n > 0 && !newton.rDefault.empty() && newton.rDefault[0] > 0 ? settings.r * k.law.r[0] / newton.rDefault[0] : 0.;
+  if (watch.spent && watch.restarts < 1 && rScale <= 1 && merit < watchdogRestart * watch.merit) { watch.spent = false; watch.restarts++; }
   if (++watch.replacedInRow >= 2 && !watch.spent) {
     watch.active = true; watch.merit = merit;
     watch.keys.clear(); watch.merits.clear();

@@ -237,6 +237,7 @@ struct NewtonState {
     int replacedInRow = 0;             // Newton iterates the safeguard replaced in a row
     bool active = false;               // Newton iterates are kept whatever their merit
     bool spent = false;                // it ended at its reference: not again before a Newton iterate passes or the merit halves
+    int restarts = 0;                  // ... the latter once a step
     double merit = 0;                  // the reference's merit, which a kept iterate must lower
     std::vector<double> c, m;          // the reference
     std::vector<std::vector<int>> keys;  // the pieces (Slots::key) of the iterates it kept

@@ -102,6 +102,29 @@ void fixedPointSweep(Kernel &k, bool forward, double *c, double *m, const double
 }
 
 
+// The start of a step of every fixed point: the convergence test at the operator's scale, as
+// Newton's (referenceEvaluate: the augmentations rReference; the user's kept for
+// fixedPointFinish), the velocities of the first iterate m, its natural residual (logged as
+// iteration 0) and whether it already passes
+struct FixedPointStart {
+  std::vector<double> userR, cFree, c, m;
+  double residual = 0;
+  int unresolved = 0;
+  bool done = false;
+  FixedPointStart(Kernel &k, const double *cFreeIn, const double *mIn) {
+    const int nc = k.factor.nc;
+    contactlaw::Slots &law = k.law;
+    userR = law.r;
+    for (int j = 0; j < nc; j++) law.setAugmentation(j, k.factor.rReference[j]);
+    cFree.assign(cFreeIn, cFreeIn + nc); m.assign(mIn, mIn + nc); c.assign(nc, 0.);
+    roundoffScale(k, cFree.data(), m.data());
+    velocities(k, cFree.data(), m.data(), c.data());
+    residual = law.evaluate(c.data(), m.data());
+    logIteration(k, 0, residual);
+    done = stepConverged(k, residual, c.data(), unresolved);
+  }
+};
+
 // The end of a step of either fixed point: the user's augmentations back, c and m out, the
 // solver's info; the iterations, or -1 if the step did not converge
 long fixedPointFinish(Kernel &k, const std::vector<double> &userR, const std::vector<double> &c, const std::vector<double> &m,
@@ -354,16 +377,13 @@ long twoLevelStep(Kernel &k, const double *cFreeIn, double *cInOut, double *mInO
   contactlaw::Slots &law = k.law;
   const SolverSettings &settings = k.settings;
   const int nc = factor.nc, K = fp.K, inc = 1;
-  const std::vector<double> userR = law.r;
-  for (int j = 0; j < nc; j++) law.setAugmentation(j, factor.rReference[j]);
-  std::vector<double> cFree(cFreeIn, cFreeIn + nc), c(nc), m(mInOut, mInOut + nc), cin(nc), a(K, 0.);
-  roundoffScale(k, cFree.data(), m.data());
+  FixedPointStart start(k, cFreeIn, mInOut);
+  const std::vector<double> &userR = start.userR, &cFree = start.cFree;
+  std::vector<double> &c = start.c, &m = start.m, cin(nc), a(K, 0.);
+  double &residual = start.residual;
+  int &unresolved = start.unresolved, it = 0;
+  bool &done = start.done, stalled = false;
   coarseVelocity(fp, nc, m.data(), a);
-  velocities(k, cFree.data(), m.data(), c.data());
-  double residual = law.evaluate(c.data(), m.data());
-  logIteration(k, 0, residual);
-  int unresolved = 0, it = 0;
-  bool done = stepConverged(k, residual, c.data(), unresolved), stalled = false;
   std::vector<double> recent(20, 0.);
   int cycling = 0;
   while (!done && it < settings.maxit && std::isfinite(residual)) {
@@ -497,17 +517,14 @@ long consistentStep(Kernel &k, const double *cFreeIn, double *cInOut, double *mI
   contactlaw::Slots &law = k.law;
   const SolverSettings &settings = k.settings;
   const int nc = factor.nc, inc = 1;
-  const std::vector<double> userR = law.r;
-  for (int j = 0; j < nc; j++) law.setAugmentation(j, factor.rReference[j]);
+  FixedPointStart start(k, cFreeIn, mInOut);
+  const std::vector<double> &userR = start.userR, &cFree = start.cFree;
+  std::vector<double> &c = start.c, &m = start.m, x(nc), cBase(nc), mTrial(nc), cTrial(nc);
+  double &residual = start.residual;
+  int &unresolved = start.unresolved, it = 0;
+  bool &done = start.done, stalled = false;
   double weight = 0;                                 // of a mismatch R of a in the residual
   for (int j = 0; j < nc; j++) weight = std::max(weight, std::fabs(fp.P[j]) * factor.rReference[j] * law.residualWeight[j]);
-  std::vector<double> cFree(cFreeIn, cFreeIn + nc), c(nc), m(mInOut, mInOut + nc), x(nc), cBase(nc), mTrial(nc), cTrial(nc);
-  roundoffScale(k, cFree.data(), m.data());
-  velocities(k, cFree.data(), m.data(), c.data());
-  double residual = law.evaluate(c.data(), m.data());
-  logIteration(k, 0, residual);
-  int unresolved = 0, it = 0;
-  bool done = stepConverged(k, residual, c.data(), unresolved), stalled = false;
   std::vector<double> recent(20, 0.);
   Anderson anderson(fp.window, nc);
   const double delta = fp.delta[0], *P = fp.P.data(), *Q = fp.Q.data();
@@ -644,18 +661,13 @@ long fixedPointStep(Kernel &k, const double *cFreeIn, double *cInOut, double *mI
     std::copy(cStart.begin(), cStart.end(), cInOut);
     std::copy(mStart.begin(), mStart.end(), mInOut);
   }
-  // the convergence test at the operator's scale, as Newton's (referenceEvaluate)
-  const std::vector<double> userR = law.r;
-  for (int j = 0; j < nc; j++) law.setAugmentation(j, factor.rReference[j]);
-  std::vector<double> cFree(nc), c(nc), m(nc);
-  for (int j = 0; j < nc; j++) { cFree[j] = cFreeIn[j]; m[j] = mInOut[j]; }
-  roundoffScale(k, cFree.data(), m.data());
+  FixedPointStart start(k, cFreeIn, mInOut);
+  const std::vector<double> &userR = start.userR, &cFree = start.cFree;
+  std::vector<double> &c = start.c, &m = start.m;
+  double &residual = start.residual;
+  int &unresolved = start.unresolved;
+  bool &done = start.done;
   auto exactVelocities = [&]() { velocities(k, cFree.data(), m.data(), c.data()); };
-  exactVelocities();
-  double residual = law.evaluate(c.data(), m.data());
-  logIteration(k, 0, residual);
-  int unresolved = 0;
-  bool done = stepConverged(k, residual, c.data(), unresolved);
   // Anderson acceleration of the map G: m -> two sweeps (forward, backward), window fixedPoint.window
   const int window = fixedPoint.window;
   Anderson anderson(window, nc);

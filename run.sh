@@ -9,6 +9,7 @@
 #   ./run.sh figures RUN_DIR [RUN_DIR ...]   every figure of those run folders, into RUN_DIR/figures
 #   ./run.sh animate RUN_DIR the deformed body over time (a run with -vtk N) -> RUN_DIR/figures
 #   ./run.sh bench [--quick] the benchmark: cost per step, work-precision (results/bench)
+#   ./run.sh bench-ranks [--quick | --big]   -ranks N: scaling, the slab beyond one process (results/bench_ranks)
 #   ./run.sh stability [--quick]  where each method fails (results/stability)
 #   ./run.sh sweep -NAME V1,V2,... [options] -out DIR [-plot Q,...] [-jobs N]   one solve per value -> DIR
 # Checks for FreeFem++, gmsh, numdiff and python3 with matplotlib first, and installs
@@ -84,14 +85,14 @@ build_plugin() { # build_plugin NAME "SOURCES..." [LIBRARIES...]: (re)build edp/
     mkdir -p "$tmp.o" || return 1
     for unit in "${units[@]}"; do
       # shellcheck disable=SC2086
-      g++ $KERNEL_CXXFLAGS -std=c++14 -fPIC -DNDEBUG -DPLUGIN_SOURCES_CKSUM="$sum" -DPLUGIN_SOURCES="\"$sources\"" \
-          -Wno-deprecated-declarations -I/usr/include/freefem++ -I/usr/include/suitesparse -I"$PLUGINS" -c "$unit" -o "$tmp.o/$k.o" &
+      "$PLUGIN_CXX" $KERNEL_CXXFLAGS -std=c++14 -fPIC -DNDEBUG -DPLUGIN_SOURCES_CKSUM="$sum" -DPLUGIN_SOURCES="\"$sources\"" \
+          -Wno-deprecated-declarations -I/usr/include/freefem++ -I/usr/include/suitesparse -I"$PLUGINS" $PLUGIN_INCLUDES -c "$unit" -o "$tmp.o/$k.o" &
       running+=($!); k=$((k + 1))
       if [ "${#running[@]}" -ge "$jobs" ]; then wait "${running[0]}" || { kill "${running[@]:1}" 2>/dev/null; return 1; }; running=("${running[@]:1}"); fi
     done
     for unit in "${running[@]}"; do wait "$unit" || { kill "${running[@]}" 2>/dev/null; return 1; }; done
     # shellcheck disable=SC2086
-    g++ $KERNEL_CXXFLAGS -shared "$tmp.o"/*.o -o "$tmp" "$@"
+    "$PLUGIN_CXX" $KERNEL_CXXFLAGS -shared "$tmp.o"/*.o -o "$tmp" "$@"
   }
   compile_units "$@" &
   compiler=$!                                     # a signal during the build stops it and leaves no partial .so
@@ -107,10 +108,42 @@ build_plugin() { # build_plugin NAME "SOURCES..." [LIBRARIES...]: (re)build edp/
   echo "$sum $KERNEL_CXXFLAGS" > "$target.cksum"
   echo "run.sh: built $target" >&2
 }
+PLUGIN_CXX=g++ PLUGIN_INCLUDES=""                 # (the ranks' kernel: mpicxx and PETSc's headers)
 build_kernel() {
   build_plugin contactkernel "$(plugin_sources kernel contactlaw.hpp)" -lcholmod -llapack -lblas
   build_plugin runtools "$(plugin_sources runtools)"
 }
+
+# -ranks N: the same kernel and law with edp/plugins/ranks/ (PETSc across MPI ranks), compiled
+# with Open MPI's mpicxx against Debian's PETSc 3.18 into contactkernelmpi.so, which solve.edp
+# loads under FreeFem++-mpi. Its packages are installed only for -ranks (and the tests of it).
+RANKS_PACKAGES=(openmpi-bin libopenmpi-dev libpetsc-real3.18-dev)
+PETSC_DIR_DEBIAN=/usr/lib/petscdir/petsc3.18/x86_64-linux-gnu-real
+ranks_buildable() {
+  command -v mpicxx >/dev/null 2>&1 && command -v mpirun >/dev/null 2>&1 && command -v FreeFem++-mpi >/dev/null 2>&1 \
+    && [ -f "$PETSC_DIR_DEBIAN/include/petscksp.h" ]
+}
+build_ranks_kernel() {
+  PLUGIN_CXX=mpicxx PLUGIN_INCLUDES="-I$PETSC_DIR_DEBIAN/include" \
+    build_plugin contactkernelmpi "$(plugin_sources kernel contactlaw.hpp) $(plugin_sources ranks)" \
+      -lcholmod -llapack -lblas -L"$PETSC_DIR_DEBIAN/lib" -lpetsc_real
+}
+ensure_ranks() { # the packages and the plugin of -ranks
+  if ! ranks_buildable; then
+    if [ "$(id -u)" = 0 ]; then
+      echo "run.sh: installing ${RANKS_PACKAGES[*]} (for -ranks)" >&2
+      export DEBIAN_FRONTEND=noninteractive
+      apt-get update -q >&2 && apt-get install -y -q "${RANKS_PACKAGES[@]}" >&2
+      ranks_buildable || { echo "run.sh: error: Open MPI or PETSc still missing after apt-get install" >&2; exit 1; }
+    else
+      echo "run.sh: error: -ranks needs Open MPI and PETSc; install them with:" >&2
+      echo "  sudo apt-get update && sudo apt-get install -y ${RANKS_PACKAGES[*]}" >&2
+      exit 1
+    fi
+  fi
+  build_ranks_kernel
+}
+wants_ranks() { local a; for a in "$@"; do [ "$a" = -ranks ] && return 0; done; return 1; }
 
 ensure_dependencies() { # ensure_dependencies [solve|bench|test]
   if ! missing_dependencies "${1:-}"; then build_kernel; return 0; fi
@@ -231,10 +264,11 @@ case "$command" in
   main)
     trap 'forward_signal 15' TERM; trap 'forward_signal 2' INT; trap 'forward_signal 1' HUP
     ensure_dependencies; main_job ;;
-  solve) refuse_freefem_arguments "$@"; ensure_dependencies solve; exec "${FREEFEM[@]}" "$here/edp/solve.edp" "$@" ;;   # a signal reaches the solve
+  solve) refuse_freefem_arguments "$@"; ensure_dependencies solve; if wants_ranks "$@"; then ensure_ranks; fi; exec "${FREEFEM[@]}" "$here/edp/solve.edp" "$@" ;;   # a signal reaches the solve
   compare) refuse_freefem_arguments "$@"; ensure_dependencies solve; exec "${FREEFEM[@]}" "$here/edp/compare.edp" "$@" ;;
-  test) ensure_dependencies test; exec bash "$here/tests/run_tests.sh" "$@" ;;
+  test) ensure_dependencies test; ensure_ranks; exec bash "$here/tests/run_tests.sh" "$@" ;;
   bench) ensure_dependencies bench; exec bash "$here/plots/bench.sh" "$@" ;;
+  bench-ranks) ensure_dependencies bench; ensure_ranks; exec bash "$here/plots/bench_ranks.sh" "$@" ;;
   stability) ensure_dependencies; exec bash "$here/plots/stability.sh" "$@" ;;
   figures) ensure_dependencies
     # A folder (an existing one, or a path with a '/') means run folders; otherwise figure names.
@@ -242,6 +276,6 @@ case "$command" in
     "$PYTHON" "$here/plots/figures.py" --results "${RESULTS_DIR:-$here/results}" --out "${RESULTS_DIR:-$here/results}/figures" "$@" ;;
   animate) ensure_dependencies; exec "$PYTHON" "$here/plots/animate.py" "$@" ;;
   sweep) refuse_freefem_arguments "$@"; ensure_dependencies; exec "$PYTHON" "$here/plots/sweep.py" "$@" ;;   # each value: ./run.sh solve
-  -h|--help|help) sed -n '2,15p' "$0" | sed 's/^# \{0,1\}//' ;;
-  *) echo "run.sh: error: unknown command '$command' (commands: solve, compare, test, figures, animate, sweep, bench, stability, or none for the main job)" >&2; exit 2 ;;
+  -h|--help|help) sed -n '2,16p' "$0" | sed 's/^# \{0,1\}//' ;;
+  *) echo "run.sh: error: unknown command '$command' (commands: solve, compare, test, figures, animate, sweep, bench, bench-ranks, stability, or none for the main job)" >&2; exit 2 ;;
 esac

@@ -43,7 +43,7 @@ solve "${coarse[@]}" -out "$work/late-out" > /dev/null 2>&1 || status=1
 cp -r "$work/late-out" "$work/late-out.before"
 for fault in 'assert(optionText("T") == "never");' 'real[int] tooShort(2); tooShort[7] = 1;' '{ real[int] kernelWrong(3); contactKernelSolve(kernelWrong, kernelWrong); }'; do
   # the places: in the driver, in the time loop and at the end of the run (edp/lib/run.idp)
-  for place in 'adaptMesh();' '    recordStep(step, t, v, u, Lam, stepLoad)' '  finishSeries();'; do
+  for place in '  adaptMesh();' '    recordStep(step, t, v, u, Lam, stepLoad)' '  finishSeries();'; do
     cp edp/solve.edp "$faulty/edp/solve.edp"; cp edp/lib/run.idp "$faulty/edp/lib/run.idp"
     file=edp/solve.edp; grep -qF -- "$place" "$file" || file=edp/lib/run.idp
     grep -qF -- "$place" "$file" || { echo "no line '$place' in edp/solve.edp or edp/lib/run.idp" >> "$diag"; status=1; }

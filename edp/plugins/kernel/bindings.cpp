@@ -61,6 +61,8 @@
 //   contactKernelFactorizeStep(real cm, real ca, real cb, matrix D, real[int] fixed, matrix C)
 //       the same for S = cm M + ca A + cb B + D + 1e30 on the diagonal where fixed is 1, built
 //       from the M, A, B of contactKernelProducts (called first): no FreeFEM matrix S
+//   contactKernelExternalFactor(int n, matrix C)  no factor: the steps are solved elsewhere (the
+//       ranks' solver, edp/plugins/ranks/), the record and the nodal table read n and C
 //   contactKernelLargestEntry(matrix S)  the largest |S_ij| (inf or nan if one is not finite)
 //   contactKernelDelassus(real[int,int] Dw)  Dw = C S^-1 C' diag(W); sets r_j = r / Dw_jj
 //   contactKernelSolve(real[int] b, real[int] x)  x = S^-1 b
@@ -322,6 +324,11 @@ long factorizeFromProducts(const double &cm, const double &ca, const double &cb,
   return factorizeStep(kernel(), step, C);
 }
 
+long externalFactorBinding(const long &n, Matrice_Creuse<double> *const &pC) {
+  externalFactor(kernel(), (int)n, coo(pC));
+  return 0;
+}
+
 double largestEntry(Matrice_Creuse<double> *const &pS) {
   MatriceMorse<double> &S = *morse(pS);
   double largest = 0;
@@ -539,7 +546,7 @@ long counters(KN<double> *const &pcounts) {
 long recordStartBinding(KN<double> *const &pv0, KN<double> *const &pu0, KN<double> *const &pMv, KN<double> *const &pBu) {
   Kernel &k = kernel();
   requireNodes(k, "contactKernelRecordStart");
-  requireFactor(k, "contactKernelRecordStart");
+  requireSlots(k, "contactKernelRecordStart");
   requireProducts(k, "contactKernelRecordStart");
   const int n = k.products.n;
   if (pv0->N() != n || pu0->N() != n || k.factor.n != n) ExecError("contactKernelRecordStart: wrong argument sizes");
@@ -575,7 +582,7 @@ void writeHistoryRow(Kernel &k, const KN<double> &rec) {
 long stepRecord(KN<double> *const &pv, KN<double> *const &pu, KN<double> *const &pLam, KN<double> *const &pf,
                 KN<double> *const &pMv, KN<double> *const &pBu, KN<double> *const &prec) {
   Kernel &k = kernel();
-  if (k.record.generation != k.factor.generation || !k.factor.L)
+  if (k.record.generation != k.factor.generation || (!k.factor.L && !k.factor.external))
     ExecError("contactKernelRecord: call contactKernelRecordStart (after the last contactKernelFactorize) first");
   KN<double> &v = *pv, &u = *pu, &f = *pf, &Mv = *pMv, &Bu = *pBu, &rec = *prec;
   const int n = k.products.n;
@@ -598,7 +605,7 @@ long stepRecord(KN<double> *const &pv, KN<double> *const &pu, KN<double> *const 
 long nodal(KN<double> *const &pv, KN<double> *const &pLam, KNM<double> *const &ptable) {
   Kernel &k = kernel();
   requireNodes(k, "contactKernelNodal");
-  requireFactor(k, "contactKernelNodal");
+  requireSlots(k, "contactKernelNodal");
   if (pv->N() != k.factor.n || pLam->N() != k.factor.nc) ExecError("contactKernelNodal: wrong argument sizes");
   std::vector<double> v = copyOf(*pv), Lam = copyOf(*pLam), table;
   nodalTable(k, v.data(), Lam.data(), table);
@@ -706,6 +713,7 @@ static void Load_Init() {
   Global.Add("contactKernelDampingSlope", "(", new OneOperator1_<long, Array>(dampingSlope));
   Global.Add("contactKernelFactorize", "(", new OneOperator2_<long, Matrix, Matrix>(factorizeS));
   Global.Add("contactKernelFactorizeStep", "(", new OneOperator6_<long, double, double, double, Matrix, Array, Matrix>(factorizeFromProducts));
+  Global.Add("contactKernelExternalFactor", "(", new OneOperator2_<long, long, Matrix>(externalFactorBinding));
   Global.Add("contactKernelLargestEntry", "(", new OneOperator1_<double, Matrix>(largestEntry));
   Global.Add("contactKernelDelassus", "(", new OneOperator1_<long, Table>(delassus));
   Global.Add("contactKernelSolve", "(", new OneOperator2_<long, Array, Array>(solve));

@@ -18,6 +18,7 @@ namespace contactkernel {
 
 void Factorization::release() {
   haveForward = false;
+  external = false;
   n = nc = nt = 0;
   Ltrail.clear(); slotOf.clear(); posOf.clear(); dofOf.clear(); valOf.clear();
   z.clear(); Dw.clear();
@@ -253,6 +254,26 @@ long factorizeStep(Kernel &k, const StepMatrix &step, const SparseTriplets &C) {
 
 void requireFactor(const Kernel &k, const char *who) {
   if (!k.factor.L) kernelError(std::string("contactkernel: ") + who + " without a successful contactKernelFactorize");
+}
+void requireSlots(const Kernel &k, const char *who) {
+  if (!k.factor.L && !k.factor.external)
+    kernelError(std::string("contactkernel: ") + who + " without a successful contactKernelFactorize (or contactKernelExternalFactor)");
+}
+
+// The steps are solved elsewhere (the ranks' PETSc solver, edp/plugins/ranks/): no factor here,
+// only n and the map C, which the record and the nodal table read (slotVelocities)
+void externalFactor(Kernel &k, int n, const SparseTriplets &C) {
+  requireNodes(k, "contactKernelExternalFactor");
+  checkContactOperator(k, C, n, "contactKernelExternalFactor");
+  k.factor.release();
+  k.factor.generation++;
+  k.factor.n = n;
+  k.factor.nc = k.law.n;
+  for (size_t e = 0; e < C.count; e++) if (C.value[e] != 0) {
+    const int row = C.oneBased ? C.row[e] - 1 : C.row[e], column = C.oneBased ? C.column[e] - 1 : C.column[e];
+    k.factor.slotOf.push_back(row); k.factor.dofOf.push_back(column); k.factor.valOf.push_back(C.value[e]);
+  }
+  k.factor.external = true;
 }
 void requireDelassus(const Kernel &k, const char *who) {
   requireFactor(k, who);

@@ -38,6 +38,8 @@ void nodeVelocities(const Kernel &k, const double *v, const std::vector<double> 
 long factorize(Kernel &k, const SparseTriplets &S, const SparseTriplets &C);
 long factorizeStep(Kernel &k, const StepMatrix &step, const SparseTriplets &C);
 void requireFactor(const Kernel &k, const char *who);
+void requireSlots(const Kernel &k, const char *who);              // a factor, or an external one
+void externalFactor(Kernel &k, int n, const SparseTriplets &C);    // the steps solved elsewhere (-ranks)
 void requireDelassus(const Kernel &k, const char *who);
 void computeDelassus(Kernel &k);                                   // factor.Dw; r_j = r / Dw_jj
 void solveWithFactor(Kernel &k, const double *b, double *x);       // x = S^-1 b

@@ -149,7 +149,7 @@ void zoneBoundaryRows(Kernel &k, const Switches &f, long step, long &countB, lon
 
 void nodalTable(Kernel &k, const double *v, const double *Lam, std::vector<double> &table) {
   requireNodes(k, "contactKernelNodal");
-  requireFactor(k, "contactKernelNodal");
+  requireSlots(k, "contactKernelNodal");
   const Parameters &P = k.law.P;
   const ContactNodes &nodes = k.nodes;
   std::vector<double> cv, ov;
@@ -266,7 +266,7 @@ long writeZoneBoundaries(const Kernel &k, const std::string &path) {
 // ---------------------------------------------------------------- the record of a step
 void recordStart(Kernel &k, const double *v0, const double *u0, double *Mv, double *Bu) {
   requireNodes(k, "contactKernelRecordStart");
-  requireFactor(k, "contactKernelRecordStart");
+  requireSlots(k, "contactKernelRecordStart");
   requireProducts(k, "contactKernelRecordStart");
   const ProductMatrices &products = k.products;
   EnergyRecord &record = k.record;

@@ -97,6 +97,7 @@ struct Factorization {
   std::vector<double> Dw;               // nc x nc, column-major (contactKernelDelassus)
   std::vector<double> rReference;       // 1/(Dw)_jj: the augmentation the convergence test reads
   bool haveForward = false;
+  bool external = false;                // no factor: the steps are solved by the ranks (externalFactor)
   long generation = 0;                  // counts the factorizations
   long delassusGeneration = -1;         // the factor Dw belongs to
 

@@ -176,6 +176,7 @@ static void Load_Init() {
   add("runMakeFolders", runMakeFolders);           // (path): mkdir -p; 0, or 1
   // spawn.cpp
   add("runGmsh", runGmsh);                         // (geo, out, "NAME VALUE ..."): gmsh's exit status, 127 if it cannot start
+  add("runLaunchRanks", runLaunchRanks);           // (count, dimension): this run again on count MPI ranks; returns 1 only if mpirun cannot start
   add("runRestartWith", runRestartWith);           // (argument): this program again with it; returns 1 only if that fails
   Global.Add("runSuiteVersion", "(", new OneOperator1s_<string *, string *>(runSuiteVersion));   // (repository): git describe --always --dirty, or its VERSION
   Global.Add("runGmshVersion", "(", new OneOperator1s_<string *, string *>(runGmshVersion));  // (cache folder): gmsh --version

@@ -96,10 +96,22 @@ std::string shown(const std::string &text) {
   return out;
 }
 
-// _Exit: FreeFEM's exit handlers would print trace lines after the message
+// A rank of a run on ranks other than the first (-ranks N, runLaunchRanks): its messages and
+// notes are the first rank's, which says them once
+bool quietRank() {
+  const char *rank = std::getenv("OMPI_COMM_WORLD_RANK");
+  return std::getenv("CONTACT_SUITE_RANKS") && rank && std::string(rank) != "0";
+}
+
+const bool otherRank = quietRank();                // (for the signal handler: no getenv there)
+
+// _Exit: FreeFEM's exit handlers would print trace lines after the message. Another rank than
+// the first fails without a word, a little later: the first fails the same way (every rank
+// checks the same data) and says why, and mpirun then stops the others.
 [[noreturn]] void fail(int code, const std::string &message) {
   std::cout.flush();
   cleanUp();
+  if (quietRank()) { std::fflush(nullptr); sleep(3); std::_Exit(code); }
   if (!message.empty()) toStderr("error: " + shown(message) + "\n");
   std::fflush(nullptr);
   std::_Exit(code);
@@ -108,6 +120,7 @@ std::string shown(const std::string &text) {
 long runError(const long &code, std::string *const &message) { fail((int)code, *message); }
 // progress and the Newton log: unbuffered, so that they interleave with FreeFEM's own output
 long runNote(std::string *const &message) {
+  if (quietRank()) return 0;
   toStderr(shown(*message) + "\n");
   return 0;
 }
@@ -137,8 +150,8 @@ void onSignal(int signal) {
   }
   const char *crash = crashName(signal);
   if (crash) { say("error: the run crashed ("); say(crash); say(": a bug, or too little memory)"); }
-  else say("interrupted");
-  say(removed ? ": the run removed its unfinished output folder\n" : "\n");
+  else if (!otherRank) say("interrupted");         // (another rank of -ranks: mpirun stops it after the first rank failed)
+  if (crash || !otherRank) say(removed ? ": the run removed its unfinished output folder\n" : "\n");
   struct sigaction action = {};
   action.sa_handler = SIG_DFL;
   sigaction(signal, &action, nullptr);

@@ -86,6 +86,7 @@ long runMakeFolders(std::string *const &path);
 // spawn.cpp
 long runGmsh(std::string *const &geo, std::string *const &out, std::string *const &numbers);
 long runRestartWith(std::string *const &extra);
+long runLaunchRanks(const long &count, const long &dimension);   // -ranks N: this run on N MPI ranks (mpirun)
 // meshcheck.cpp
 long runCheckMesh(std::string *const &in, std::string *const &out, std::string *const &required,
                   std::string *const &dirichlet, std::string *const &what, const long &fatal);

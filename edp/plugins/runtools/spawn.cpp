@@ -58,6 +58,9 @@ std::vector<std::string> ownArguments() {
 
 // CONTACT_SUITE_RESTART = this process's id marks the restart's own -Ddimension=3
 const char *restartVariable = "CONTACT_SUITE_RESTART";
+// CONTACT_SUITE_RANKS marks the ranks a run started under mpirun (runLaunchRanks): their
+// -DranksMode=1 and -Ddimension=3
+const char *ranksVariable = "CONTACT_SUITE_RANKS";
 
 // FreeFem++'s lexer reads an argument that starts with '-' or 'D' and whose first '=' comes
 // after its fourth character as a macro definition, named by its characters from the third to
@@ -185,6 +188,8 @@ void checkCommandLine() {
   const char *marker = std::getenv(restartVariable);
   const bool restarted = marker && std::string(marker) == std::to_string(getpid());
   unsetenv(restartVariable);                       // not for the processes this run starts
+  const char *ranks = std::getenv(ranksVariable), *world = std::getenv("OMPI_COMM_WORLD_SIZE");
+  const bool onRanks = ranks && world && std::string(ranks) == world;
   size_t script = 0;                               // the script: FreeFEM's first argument that is not its option
   for (size_t i = 1; i < args.size() && script == 0; i++) {
     bool takesValue = false;
@@ -195,6 +200,7 @@ void checkCommandLine() {
     const std::string &a = args[i];
     bool takesValue = false;
     if (restarted && i + 1 == args.size() && a == "-Ddimension=3") continue;
+    if (onRanks && i + 2 >= args.size() && (a == "-Ddimension=3" || a == "-DranksMode=1")) continue;
     if (freefemMacro(a))
       fail(2, "the argument '" + a + "' would be read by FreeFem++ as a macro definition (an argument that starts with '-' or 'D' "
               + "and has an '=' after its fourth character, wherever it stands), which could change the script: the suite refuses it"
@@ -231,6 +237,37 @@ long runRestartWith(std::string *const &extra) {
   argv.push_back(nullptr);
   std::fflush(nullptr);
   execv("/proc/self/exe", argv.data());
+  return 1;
+}
+
+// -ranks N: this run again on N MPI ranks, in this process (execvp): mpirun -q -np N [--oversubscribe
+// beyond the cores] FreeFem++-mpi -nw, the same arguments, then -DranksMode=1 (edp/solve.edp
+// loads the ranks' kernel) and, for a 3D body, -Ddimension=3. mpirun's exit code is the run's.
+// Returns only if mpirun cannot be started (1).
+long runLaunchRanks(const long &count, const long &dimension) {
+  std::vector<std::string> own = ownArguments();
+  if (own.empty()) return 1;
+  const long cores = sysconf(_SC_NPROCESSORS_ONLN);
+  std::vector<std::string> args = {"mpirun", "-q", "-np", std::to_string(count)};   // -q: no banner when a rank fails
+  if (count > cores) args.push_back("--oversubscribe");
+  args.push_back("FreeFem++-mpi");
+  args.push_back("-nw");
+  for (size_t i = 1; i < own.size(); i++) {
+    if (own[i] == "-Ddimension=3" && i + 1 == own.size()) continue;   // (the restart's: given again below)
+    args.push_back(own[i]);
+  }
+  args.push_back("-DranksMode=1");
+  if (dimension == 3) args.push_back("-Ddimension=3");
+  setenv(ranksVariable, std::to_string(count).c_str(), 1);
+  if (geteuid() == 0) {                            // Open MPI refuses root unless told twice
+    setenv("OMPI_ALLOW_RUN_AS_ROOT", "1", 1);
+    setenv("OMPI_ALLOW_RUN_AS_ROOT_CONFIRM", "1", 1);
+  }
+  std::vector<char *> argv;
+  for (auto &a : args) argv.push_back(const_cast<char *>(a.c_str()));
+  argv.push_back(nullptr);
+  std::fflush(nullptr);
+  execvp("mpirun", argv.data());
   return 1;
 }
 

@@ -1,0 +1,122 @@
+"""bench_ranks.py: the tables and charts of ./run.sh bench-ranks (plots/bench_ranks.sh).
+
+Reads OUT/scaling.txt (one row per run on ranks), writes OUT/projection.txt and the charts
+OUT/ranks_memory.png (peak memory per rank against the unknowns per rank, each path; the
+one-process runs beside) and OUT/ranks_projection.png (the fitted model's memory per rank
+and time per step at 1e7 and 1e8 unknowns against the ranks).
+
+The model, fitted by least squares on the rows of each path (its assumptions are printed in
+projection.txt):
+  peak memory per rank (MB) = a + b n + c n^e / N
+    n the unknowns, N the ranks; b n is what every rank holds whole (the mesh, vectors of n,
+    on rank 0 also M, A, B), c n^e / N what is divided (the rows of S, R'SR and the Newton
+    matrix, and the factor: e = 1.4 for MUMPS, the fill measured on one process from 92k to
+    212k unknowns; e = 1 for GAMG);
+  time per step (s) = t0 (n / n0)^f / min(N, cores)
+    fitted on the runs with N <= cores (on more ranks than cores the ranks share them: those
+    times are not scaling), f from the one-rank runs of two sizes; perfect strong scaling
+    beyond, an optimistic assumption.
+Usage: bench_ranks.py OUT
+"""
+import os
+import sys
+
+import numpy as np
+
+
+def read_rows(path):
+    names, rows = None, []
+    with open(path) as f:
+        for line in f:
+            if line.startswith("#"):
+                names = line[1:].split()
+                continue
+            words = line.split()
+            if words:
+                rows.append(dict(zip(names, words)))
+    return rows
+
+
+def number(row, key):
+    try:
+        return float(row[key])
+    except (KeyError, ValueError):
+        return float("nan")
+
+
+def main():
+    if len(sys.argv) != 2:
+        sys.exit("usage: bench_ranks.py OUT")
+    out = sys.argv[1]
+    rows = read_rows(os.path.join(out, "scaling.txt"))
+    cores = os.cpu_count() or 1
+    exponents = {"direct": 1.4, "iterative": 1.0}
+    lines = ["# projection of -ranks N (plots/bench_ranks.py): memory per rank = a + b n + c n^e / N (MB), time per step = t0 (n/n0)^f / min(N, cores)",
+             f"# fitted on {len(rows)} runs of {out}/scaling.txt; cores {cores}",
+             "# path quantity value"]
+    fits = {}
+    for path, e in exponents.items():
+        sel = [r for r in rows if r["path"] == path and np.isfinite(number(r, "memory_peak_rank_mb_max"))]
+        if len(sel) < 3:
+            continue
+        n = np.array([number(r, "unknowns") for r in sel])
+        N = np.array([number(r, "ranks") for r in sel])
+        mem = np.array([number(r, "memory_peak_rank_mb_max") for r in sel])
+        A = np.column_stack([np.ones_like(n), n, n ** e / N])
+        coef, *_ = np.linalg.lstsq(A, mem, rcond=None)
+        coef = np.maximum(coef, 0)
+        timed = [r for r in sel if number(r, "ranks") <= cores and np.isfinite(number(r, "step_s"))]
+        ones = sorted([r for r in timed if number(r, "ranks") == 1], key=lambda r: number(r, "unknowns"))
+        f = 1.0
+        if len(ones) >= 2 and number(ones[-1], "unknowns") > number(ones[0], "unknowns"):
+            f = np.log(number(ones[-1], "step_s") / number(ones[0], "step_s")) / np.log(number(ones[-1], "unknowns") / number(ones[0], "unknowns"))
+        ref = ones[-1] if ones else (timed[-1] if timed else None)
+        t0 = number(ref, "step_s") if ref else float("nan")
+        n0 = number(ref, "unknowns") if ref else float("nan")
+        fits[path] = (coef, e, t0, n0, f)
+        lines += [f"{path} a_mb {coef[0]:.4g}", f"{path} b_mb_per_unknown {coef[1]:.4g}", f"{path} c_mb {coef[2]:.4g}",
+                  f"{path} exponent_e {e}", f"{path} time_t0_s {t0:.4g}", f"{path} time_n0 {n0:.0f}", f"{path} time_exponent_f {f:.3g}"]
+        for target in (1e7, 1e8):
+            for ranks in (16, 64, 256, 1024, 4096):
+                m = coef[0] + coef[1] * target + coef[2] * target ** e / ranks
+                t = t0 * (target / n0) ** f / ranks
+                lines.append(f"{path} n {target:.0e} ranks {ranks} memory_per_rank_mb {m:.4g} time_per_step_s {t:.4g}")
+    with open(os.path.join(out, "projection.txt"), "w") as fh:
+        fh.write("\n".join(lines) + "\n")
+    try:
+        import matplotlib
+        matplotlib.use("Agg")
+        import matplotlib.pyplot as plt
+    except ImportError:
+        return
+    fig, ax = plt.subplots(figsize=(6.4, 4.4))
+    for path, marker in (("direct", "o"), ("iterative", "s")):
+        sel = [r for r in rows if r["path"] == path]
+        if sel:
+            x = [number(r, "unknowns") / number(r, "ranks") for r in sel]
+            ax.scatter(x, [number(r, "memory_peak_rank_mb_max") for r in sel], marker=marker, label=f"-ranksolver {path} (largest rank)")
+    one = {r["unknowns"]: number(r, "one_process_memory_mb") for r in rows if np.isfinite(number(r, "one_process_memory_mb"))}
+    if one:
+        ax.scatter([float(k) for k in one], list(one.values()), marker="x", color="k", label="one process")
+    ax.set_xscale("log"); ax.set_yscale("log")
+    ax.set_xlabel("unknowns per rank"); ax.set_ylabel("peak memory per rank (MB)")
+    ax.set_title("slab3d, 2 steps: memory per rank")
+    ax.legend(fontsize=8)
+    fig.tight_layout(); fig.savefig(os.path.join(out, "ranks_memory.png"), dpi=110); plt.close(fig)
+    if fits:
+        fig, axes = plt.subplots(1, 2, figsize=(10, 4.2))
+        ranks = np.array([4, 8, 16, 32, 64, 128, 256, 512, 1024, 2048, 4096], dtype=float)
+        for path, (coef, e, t0, n0, f) in fits.items():
+            for target, style in ((1e7, "-"), (1e8, "--")):
+                axes[0].plot(ranks, (coef[0] + coef[1] * target + coef[2] * target ** e / ranks) / 1024, style, label=f"{path}, n = {target:.0e}")
+                axes[1].plot(ranks, t0 * (target / n0) ** f / ranks, style, label=f"{path}, n = {target:.0e}")
+        for a, label in ((axes[0], "memory per rank (GB)"), (axes[1], "time per step (s)")):
+            a.set_xscale("log"); a.set_yscale("log"); a.set_xlabel("ranks"); a.set_ylabel(label); a.legend(fontsize=7)
+        axes[0].axhline(24, color="gray", lw=0.8)
+        axes[0].set_title("projected: the whole mesh on every rank sets a floor")
+        axes[1].set_title("projected (perfect strong scaling assumed)")
+        fig.tight_layout(); fig.savefig(os.path.join(out, "ranks_projection.png"), dpi=110); plt.close(fig)
+
+
+if __name__ == "__main__":
+    main()

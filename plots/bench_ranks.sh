@@ -1,0 +1,90 @@
+#!/usr/bin/env bash
+# bench_ranks.sh: the benchmark of -ranks N behind ./run.sh bench-ranks [--quick | --big].
+# Not a test: these machines are shared and noisy, and have 2 cores (N > 2 is oversubscribed:
+# its times say little, its memory per rank still does). The 3D slab (slab3d) over two steps.
+#
+# Writes under ${RESULTS_DIR:-results}/bench_ranks/:
+#   runs/NAME/        one folder per run (the outputs of edp/solve.edp)
+#   scaling.txt       one row per run: the mesh, unknowns, ranks, path, wall seconds, time per
+#                     step, Newton and linear iterations, each rank's peak memory (largest, mean),
+#                     and the one-process run of the same mesh (its peak memory, time per step)
+#   projection.txt    memory per unknown and per rank of each path (fitted on scaling.txt),
+#                     projected to 1e7 and 1e8 unknowns (plots/bench_ranks.py)
+#   ranks_*.png       the charts
+# --quick: the two smallest meshes, N = 1, 2; --big: also the slab 96x48x48 (698,691 unknowns)
+# on 2 ranks, iterative path, and the direct path one size down (48x24x24) for its accuracy.
+set -euo pipefail
+root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
+cd "$root"
+PYTHON="${PYTHON:-/usr/bin/python3}"
+out="${RESULTS_DIR:-$root/results}/bench_ranks"
+mode=full
+case "${1:-}" in
+  --quick) mode=quick ;;
+  --big) mode=big ;;
+  "") ;;
+  *) echo "bench_ranks.sh: error: unknown argument '$1' (usage: bench_ranks.sh [--quick | --big])" >&2; exit 2 ;;
+esac
+mkdir -p "$out/runs"
+table="$out/scaling.txt"
+[ "$mode" = big ] || rm -rf "$out/runs"/* "$table"
+[ -f "$table" ] || echo "# name nx ny nz unknowns ranks path wall_s step_s newton_iterations linear_iterations memory_peak_rank_mb_max memory_peak_rank_mb_mean one_process_memory_mb one_process_step_s" > "$table"
+# value FILE KEY: a key of summary.txt
+value() { awk -v k="$2" '$1 == k { print $2; exit }' "$1"; }
+# run NAME NX NY NZ RANKS PATH [options]: one solve (RANKS 0: one process), its row
+declare -A oneMemory oneStep
+run() {
+  local name="$1" nx="$2" ny="$3" nz="$4" ranks="$5" path="$6"; shift 6
+  local dir="$out/runs/$name" t0 t1 opts=(-scene slab3d -nx "$nx" -ny "$ny" -nz "$nz" -T 0.02 -dt 0.01 -estimate off -quiet -out "$out/runs/$name")
+  [ "$ranks" = 0 ] || opts+=(-ranks "$ranks" -ranksolver "$path")
+  t0=$(date +%s.%N)
+  if [ "$ranks" = 0 ]; then
+    /usr/bin/time -f "%M" -o "$dir.mem" ./run.sh solve "${opts[@]}" "$@" > "$dir.log" 2>&1 || { echo "bench_ranks.sh: $name failed:"; tail -5 "$dir.log"; return 0; }
+  else
+    ./run.sh solve "${opts[@]}" "$@" > "$dir.log" 2>&1 || { echo "bench_ranks.sh: $name failed:"; tail -5 "$dir.log"; return 0; }
+  fi
+  t1=$(date +%s.%N)
+  local s="$dir/summary.txt" steps wall step
+  steps=$(value "$s" steps); wall=$(awk -v a="$t0" -v b="$t1" 'BEGIN { printf "%.2f", b - a }')
+  step=$(awk -v l="$(value "$s" time_loop)" -v n="$steps" 'BEGIN { printf "%.4g", l / n }')
+  local key="$nx.$ny.$nz"
+  if [ "$ranks" = 0 ]; then
+    oneMemory[$key]=$(awk '{ printf "%.1f", $1 / 1024 }' "$dir.mem"); oneStep[$key]=$step
+    echo "$name: one process, $(value "$s" dofs) unknowns, ${step} s a step, peak ${oneMemory[$key]} MB, wall $wall s"
+    return 0
+  fi
+  local max mean
+  max=$(value "$s" memory_peak_rank_mb_max)
+  mean=$(awk '$1 ~ /^memory_peak_rank_mb_[0-9]+$/ { s += $2; n++ } END { printf "%.1f", s / n }' "$s")
+  echo "$name $nx $ny $nz $(value "$s" dofs) $ranks $path $wall $step $(value "$s" ranks_newton_iterations) $(value "$s" ranks_linear_iterations) $max $mean ${oneMemory[$key]:-nan} ${oneStep[$key]:-nan}" >> "$table"
+  echo "$name: $ranks ranks, $path, $(value "$s" dofs) unknowns, ${step} s a step, peak per rank $max MB (mean $mean), wall $wall s"
+}
+
+if [ "$mode" = big ]; then
+  # beyond the one process: the slab 96x48x48 on 2 ranks, iterative; one size down, direct
+  run big-it-96 96 48 48 2 iterative
+  run big-direct-48 48 24 24 2 direct
+  run big-it-48 48 24 24 2 iterative
+  "$PYTHON" plots/bench_ranks.py "$out"
+  exit 0
+fi
+# At fixed size: N = 1, 2, 4, 8 (above 2 oversubscribed), both paths
+sizes=("24 12 12" "48 24 24")
+[ "$mode" = quick ] && sizes=("16 8 8")
+counts=(1 2 4 8)
+[ "$mode" = quick ] && counts=(1 2)
+for size in "${sizes[@]}"; do
+  read -r nx ny nz <<< "$size"
+  run "one-$nx" "$nx" "$ny" "$nz" 0 -
+  for path in direct iterative; do
+    for n in "${counts[@]}"; do run "fixed-$nx-$path-$n" "$nx" "$ny" "$nz" "$n" "$path"; done
+  done
+done
+# At fixed size per rank: about 12,000 unknowns per rank (24x12x12 on one), N = 1, 2, 4, 8
+if [ "$mode" = full ]; then
+  for spec in "1 24 12 12" "2 30 15 15" "4 38 19 19" "8 48 24 24"; do
+    read -r n nx ny nz <<< "$spec"
+    for path in direct iterative; do run "weak-$nx-$path-$n" "$nx" "$ny" "$nz" "$n" "$path"; done
+  done
+fi
+"$PYTHON" plots/bench_ranks.py "$out"

@@ -1,0 +1,41 @@
+# Across MPI ranks (-ranks N; docs/design.md, "Across ranks").
+# Sourced by tests/run_tests.sh, in the order of the file names: it uses the harness's
+# variables and functions (solve, report, work, PYTHON, expect_failure, ...).
+# ---- The run on 2 ranks through PETSc agrees with the one-process run to 1e-9 (every output,
+# the zones identical: tests/check_results.py --compare), on both linear-solver paths, for the
+# paper scene (2D, original and penalty) and the oblique slide (3D, the disk law); its own
+# physics checks pass; summary.txt names the ranks, the engine and each rank's peak memory.
+ranks_agreement() { # ranks_agreement NAME OPTIONS...: one process, then 2 ranks direct and iterative
+  local name="$1"; shift
+  local diag="$work/ranks-$name.diag" status=0 path
+  : > "$diag"
+  rm -rf "$work/ranks-$name-1p"
+  solve "$@" -estimate off -quiet -out "$work/ranks-$name-1p" >> "$diag" 2>&1 || status=1
+  for path in direct iterative; do
+    rm -rf "$work/ranks-$name-$path"
+    solve "$@" -ranks 2 -ranksolver "$path" -quiet -out "$work/ranks-$name-$path" >> "$diag" 2>&1 || { echo "-ranks 2 -ranksolver $path failed" >> "$diag"; status=1; continue; }
+    "$PYTHON" tests/check_results.py "$work/ranks-$name-$path" >> "$diag" 2>&1 || status=1
+    "$PYTHON" tests/check_results.py "$work/ranks-$name-$path" --compare "$work/ranks-$name-1p" --rtol 1e-9 >> "$diag" 2>&1 || status=1
+    grep -qx "ranks 2" "$work/ranks-$name-$path/summary.txt" && grep -qx "ranksolver $path" "$work/ranks-$name-$path/summary.txt" \
+      && grep -Eq '^ranks_engine PETSc [0-9.]+, ' "$work/ranks-$name-$path/summary.txt" \
+      && [ "$(grep -c '^memory_peak_rank_mb_[01] [0-9.]*$' "$work/ranks-$name-$path/summary.txt")" = 2 ] \
+      && grep -Eq '^memory_peak_rank_mb_max [0-9.]+$' "$work/ranks-$name-$path/summary.txt" \
+      || { echo "$path: summary.txt lacks ranks, ranksolver, ranks_engine or memory_peak_rank_mb_*" >> "$diag"; status=1; }
+  done
+  report $status "ranks: $name on 2 ranks (direct, iterative) = one process to 1e-9, zones identical" "$diag"
+}
+ranks_agreement paper -scene paper -T 0.2
+ranks_agreement paper-penalty -scene paper -problem penalty -T 0.2
+ranks_agreement slide3d -scene oblique-slide3d -T 0.1
+# What the run on ranks does not do, refused by name before mpirun starts; no output written
+expect_failure "-ranks with the fixed point" 2 "option -solver fixedpoint: -ranks runs Newton only" -ranks 2 -solver fixedpoint
+expect_failure "-ranks with -estimate on" 2 "option -estimate on: the error estimates' companion run is a one-process run" -ranks 2 -estimate on
+expect_failure "-ranks with -adapt" 2 "option -adapt: mesh adaptation runs on one process" -ranks 2 -adapt 1
+expect_failure "-ranks out of range" 2 "option -ranks" -ranks 300
+# A step the ranks' Newton cannot solve: exit 4 with the step and residual, nothing written
+expect_failure "-ranks: a step that does not converge" 4 "step 1 \(t = [^)]*\): the contact solver did not converge after 1 iterations" -ranks 2 -T 0.1 -maxit 1
+# A linear solve that fails (GMRES capped at one iteration through PETSc's options): exit 4
+# naming the linear solver, its iterations, residual and PETSc's reason; nothing written
+export PETSC_OPTIONS="-ranks_ksp_max_it 1"
+expect_failure "-ranks: a linear solve that fails" 4 "the linear solve of a Newton iteration \(-ranksolver iterative: GMRES with BoomerAMG\) stopped after 1 iterations, relative residual [0-9.e+-]+ \(PETSc's reason DIVERGED_ITS\)" -ranks 2 -ranksolver iterative -T 0.1
+unset PETSC_OPTIONS

@@ -45,6 +45,7 @@
 #include <mpi.h>
 #include <petscksp.h>
 #include <sys/resource.h>
+#include <csignal>
 #include <unistd.h>
 #include <algorithm>
 #include <cmath>
@@ -94,9 +95,12 @@ struct RankState {
 };
 RankState state;
 
+// An error of one rank: said with the rank, then the run stops as on a signal (runtools' handler
+// removes the unfinished output folder; mpirun stops the other ranks)
 [[noreturn]] void rankFail(int code, const std::string &message) {
-  std::fprintf(stderr, "error: rank %d of %d: %s\n", state.rank, state.size, message.c_str());
+  std::fprintf(stderr, "error: rank %d of %d: %s; no results written\n", state.rank, state.size, message.c_str());
   std::fflush(stderr);
+  raise(SIGTERM);
   MPI_Abort(MPI_COMM_WORLD, code);
   std::_Exit(code);
 }
@@ -361,8 +365,9 @@ long contact(Matrice_Creuse<double> *const &pC, string *const &path, const doubl
   CHECK(KSPGetPC(state.ksp, &pc));
   // Both paths: GMRES(100) on the Newton matrix J, right-preconditioned (its test reads the
   // true residual, |bJ - J w| <= 1e-14 |bJ|: the multipliers come from the momentum rows,
-  // m = (R'b - R'SR w)/W, and a looser solve leaves the contact residual above -tol), from the
-  // last iterate's w, at most 2000 iterations; preconditioned by MUMPS's LU of J (direct: one
+  // m = (R'b - R'SR w)/W, and a looser solve leaves the contact residual above -tol), from
+  // zero (the last iterate's w, far larger than b where a body stops, failed PETSc's divergence
+  // test on the column scenes), at most 2000 iterations; preconditioned by MUMPS's LU of J (direct: one
   // iteration) or by BoomerAMG on J (iterative), built again at every Newton iteration. (Keeping the
   // factor or the hierarchy of an earlier J, rebuilt when GMRES needs 10 iterations more than
   // just after a build, halved the factorizations on the paper scene but cost 1.2 to 1.7 times
@@ -372,8 +377,7 @@ long contact(Matrice_Creuse<double> *const &pC, string *const &path, const doubl
   CHECK(KSPGMRESSetRestart(state.ksp, 100));
   CHECK(KSPSetPCSide(state.ksp, PC_RIGHT));
   CHECK(KSPSetNormType(state.ksp, KSP_NORM_UNPRECONDITIONED));
-  CHECK(KSPSetInitialGuessNonzero(state.ksp, PETSC_TRUE));
-  CHECK(KSPSetTolerances(state.ksp, 1e-14, 0., PETSC_DEFAULT, 2000));
+  CHECK(KSPSetTolerances(state.ksp, 1e-14, 0., 1e300, 2000));
   if (state.direct) {
     CHECK(PCSetType(pc, PCLU));
     CHECK(PCFactorSetMatSolverType(pc, MATSOLVERMUMPS));
@@ -521,15 +525,19 @@ bool newtonSolve(std::vector<double> &c, std::vector<double> &m) {
   CHECK(KSPGetIterationNumber(state.ksp, &its));
   state.linearSolves++;
   state.linearIterations += its;
+  if (reason == KSP_DIVERGED_NANORINF) return false;   // a non-finite residual: exit 5, as for one process
+  PetscReal norm = 0, bnorm = 0;
+  CHECK(KSPGetResidualNorm(state.ksp, &norm));
+  CHECK(VecNorm(state.bJ, NORM_2, &bnorm));
+  // whatever PETSc's options say (PETSC_OPTIONS), a solve whose true residual is above 1e-8 |b|
+  // is not a solution: the step fails rather than writing results of it
+  if (reason >= 0 && !(norm <= 1e-8 * bnorm)) reason = KSP_DIVERGED_DTOL;
   if (reason < 0) {
-    PetscReal norm = 0;
-    KSPGetResidualNorm(state.ksp, &norm);
-    PetscReal bnorm = 0;
-    VecNorm(state.bJ, NORM_2, &bnorm);
     char text[400];
     std::snprintf(text, sizeof text, "the linear solve of a Newton iteration (-ranksolver %s: GMRES with %s) stopped after %d iterations, "
                   "relative residual %.3g (PETSc's reason %s)", state.direct ? "direct" : "iterative", state.direct ? "MUMPS LU" : "BoomerAMG",
-                  (int)its, bnorm > 0 ? (double)(norm / bnorm) : (double)norm, KSPConvergedReasons[reason]);
+                  (int)its, bnorm > 0 ? (double)(norm / bnorm) : (double)norm,
+                  norm > 1e-8 * bnorm && reason == KSP_DIVERGED_DTOL ? "DIVERGED_DTOL, or a residual above 1e-8 after its own test" : KSPConvergedReasons[reason]);
     state.failure = text;
     return false;
   }

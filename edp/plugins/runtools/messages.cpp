@@ -96,22 +96,29 @@ std::string shown(const std::string &text) {
   return out;
 }
 
-// A rank of a run on ranks other than the first (-ranks N, runLaunchRanks): its messages and
-// notes are the first rank's, which says them once
+// A rank of a run under mpirun other than the first (-ranks N): its notes are the first
+// rank's, which says them once
 bool quietRank() {
   const char *rank = std::getenv("OMPI_COMM_WORLD_RANK");
-  return std::getenv("CONTACT_SUITE_RANKS") && rank && std::string(rank) != "0";
+  return rank && std::string(rank) != "0";
 }
 
 const bool otherRank = quietRank();                // (for the signal handler: no getenv there)
 
 // _Exit: FreeFEM's exit handlers would print trace lines after the message. Another rank than
-// the first fails without a word, a little later: the first fails the same way (every rank
-// checks the same data) and says why, and mpirun then stops the others.
+// the first waits 3 s before it says why and stops: where every rank checks the same data the
+// first fails the same way and says it, and mpirun stops the others meanwhile; a failure of
+// that rank alone is said, with its rank.
 [[noreturn]] void fail(int code, const std::string &message) {
   std::cout.flush();
   cleanUp();
-  if (quietRank()) { std::fflush(nullptr); sleep(3); std::_Exit(code); }
+  if (quietRank()) {                               // said after 3 s, if mpirun has not stopped this rank by then
+    std::fflush(nullptr);
+    sleep(3);
+    if (!message.empty()) toStderr("error: (rank " + std::string(std::getenv("OMPI_COMM_WORLD_RANK")) + ") " + shown(message) + "\n");
+    std::fflush(nullptr);
+    std::_Exit(code);
+  }
   if (!message.empty()) toStderr("error: " + shown(message) + "\n");
   std::fflush(nullptr);
   std::_Exit(code);

@@ -58,9 +58,7 @@ std::vector<std::string> ownArguments() {
 
 // CONTACT_SUITE_RESTART = this process's id marks the restart's own -Ddimension=3
 const char *restartVariable = "CONTACT_SUITE_RESTART";
-// CONTACT_SUITE_RANKS marks the ranks a run started under mpirun (runLaunchRanks): their
-// -DranksMode=1 and -Ddimension=3
-const char *ranksVariable = "CONTACT_SUITE_RANKS";
+// CONTACT_SUITE_RANKS: set for the ranks of a run started under mpirun by runLaunchRanks
 
 // FreeFem++'s lexer reads an argument that starts with '-' or 'D' and whose first '=' comes
 // after its fourth character as a macro definition, named by its characters from the third to
@@ -188,8 +186,7 @@ void checkCommandLine() {
   const char *marker = std::getenv(restartVariable);
   const bool restarted = marker && std::string(marker) == std::to_string(getpid());
   unsetenv(restartVariable);                       // not for the processes this run starts
-  const char *ranks = std::getenv(ranksVariable), *world = std::getenv("OMPI_COMM_WORLD_SIZE");
-  const bool onRanks = ranks && world && std::string(ranks) == world;
+  const bool onRanks = std::getenv("OMPI_COMM_WORLD_SIZE") != nullptr;   // under mpirun (by runLaunchRanks, or by hand)
   size_t script = 0;                               // the script: FreeFEM's first argument that is not its option
   for (size_t i = 1; i < args.size() && script == 0; i++) {
     bool takesValue = false;
@@ -258,7 +255,7 @@ long runLaunchRanks(const long &count, const long &dimension) {
   }
   args.push_back("-DranksMode=1");
   if (dimension == 3) args.push_back("-Ddimension=3");
-  setenv(ranksVariable, std::to_string(count).c_str(), 1);
+  setenv("CONTACT_SUITE_RANKS", std::to_string(count).c_str(), 1);
   if (geteuid() == 0) {                            // Open MPI refuses root unless told twice
     setenv("OMPI_ALLOW_RUN_AS_ROOT", "1", 1);
     setenv("OMPI_ALLOW_RUN_AS_ROOT_CONFIRM", "1", 1);

@@ -11,7 +11,8 @@
 #   projection.txt    memory per unknown and per rank of each path (fitted on scaling.txt),
 #                     projected to 1e7 and 1e8 unknowns (plots/bench_ranks.py)
 #   ranks_*.png       the charts
-# --quick: the two smallest meshes, N = 1, 2; --big: also the slab 96x48x48 (698,691 unknowns)
+# --quick: the smallest mesh, N = 1, 2; --iterative: the iterative path's rows again (the
+# others kept); --big: the slab 96x48x48 (698,691 unknowns)
 # on 2 ranks, iterative path, and the direct path one size down (48x24x24) for its accuracy,
 # over one step (T = dt = 0.01).
 set -euo pipefail
@@ -23,12 +24,17 @@ mode=full
 case "${1:-}" in
   --quick) mode=quick ;;
   --big) mode=big ;;
+  --iterative) mode=iterative ;;
   "") ;;
-  *) echo "bench_ranks.sh: error: unknown argument '$1' (usage: bench_ranks.sh [--quick | --big])" >&2; exit 2 ;;
+  *) echo "bench_ranks.sh: error: unknown argument '$1' (usage: bench_ranks.sh [--quick | --big | --iterative])" >&2; exit 2 ;;
 esac
 mkdir -p "$out/runs"
 table="$out/scaling.txt"
-[ "$mode" = big ] || rm -rf "$out/runs"/* "$table"
+case "$mode" in
+  big) ;;
+  iterative) [ -f "$table" ] && sed -i '/ iterative /d' "$table"; rm -rf "$out/runs"/*iterative* ;;   # the iterative rows again
+  *) rm -rf "$out/runs"/* "$table" ;;
+esac
 [ -f "$table" ] || echo "# name nx ny nz unknowns ranks path wall_s step_s newton_iterations linear_iterations memory_peak_rank_mb_max memory_peak_rank_mb_mean one_process_memory_mb one_process_step_s" > "$table"
 # value FILE KEY: a key of summary.txt
 value() { awk -v k="$2" '$1 == k { print $2; exit }' "$1"; }
@@ -71,7 +77,9 @@ if [ "$mode" = big ]; then
   "$PYTHON" plots/bench_ranks.py "$out"
   exit 0
 fi
-# At fixed size: N = 1, 2, 4, 8 (above 2 oversubscribed), both paths
+# At fixed size: N = 1, 2, 4, 8 (above 2 oversubscribed), both paths (--iterative: that one)
+paths="direct iterative"
+[ "$mode" = iterative ] && paths=iterative
 sizes=("24 12 12" "48 24 24")
 [ "$mode" = quick ] && sizes=("16 8 8")
 counts=(1 2 4 8)
@@ -79,15 +87,15 @@ counts=(1 2 4 8)
 for size in "${sizes[@]}"; do
   read -r nx ny nz <<< "$size"
   run "one-$nx" "$nx" "$ny" "$nz" 0 -
-  for path in direct iterative; do
+  for path in $paths; do
     for n in "${counts[@]}"; do run "fixed-$nx-$path-$n" "$nx" "$ny" "$nz" "$n" "$path"; done
   done
 done
 # At fixed size per rank: about 12,000 unknowns per rank (24x12x12 on one), N = 1, 2, 4, 8
-if [ "$mode" = full ]; then
+if [ "$mode" = full ] || [ "$mode" = iterative ]; then
   for spec in "1 24 12 12" "2 30 15 15" "4 38 19 19" "8 48 24 24"; do
     read -r n nx ny nz <<< "$spec"
-    for path in direct iterative; do run "weak-$nx-$path-$n" "$nx" "$ny" "$nz" "$n" "$path"; done
+    for path in $paths; do run "weak-$nx-$path-$n" "$nx" "$ny" "$nz" "$n" "$path"; done
   done
 fi
 "$PYTHON" plots/bench_ranks.py "$out"

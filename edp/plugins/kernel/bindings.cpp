@@ -133,6 +133,7 @@
 #include <sstream>
 #include <stdexcept>
 #include "kernel.hpp"
+#include "ffarrays.hpp"
 
 namespace contactkernel {
 
@@ -143,27 +144,6 @@ void kernelError(const std::string &message) {
 
 namespace {
 Kernel &kernel() { return currentKernel(); }
-
-MatriceMorse<double> *morse(Matrice_Creuse<double> *A) {
-  MatriceCreuse<double> *a = A->A;
-  if (!a) ExecError("contactkernel: empty matrix");
-  MatriceMorse<double> *m = dynamic_cast<MatriceMorse<double> *>(a);
-  if (!m) ExecError("contactkernel: the matrix is not a sparse (Morse) matrix");
-  return m;
-}
-// a matrix's entries as triplets, as FreeFEM holds them (call COO() first for a converted form)
-SparseTriplets triplets(const MatriceMorse<double> &m) {
-  SparseTriplets t;
-  t.rows = m.n; t.columns = m.m; t.count = m.nnz;
-  t.row = m.i; t.column = m.j; t.value = m.aij;
-  t.lowerHalf = m.half; t.oneBased = m.fortran;
-  return t;
-}
-SparseTriplets coo(Matrice_Creuse<double> *A) {
-  MatriceMorse<double> *m = morse(A);
-  m->COO();
-  return triplets(*m);
-}
 
 // The data of a FreeFEM array as a plain pointer (the loops index it directly: through KN's
 // strided operator[] they take twice as long). Arrays declared in a script have step 1.
@@ -178,11 +158,6 @@ double *plain(KN<double> &a, std::vector<double> &spare) {
   spare.resize(a.N());
   for (int i = 0; i < a.N(); i++) spare[i] = a[i];
   return spare.data();
-}
-std::vector<double> copyOf(const KN<double> &a) {
-  std::vector<double> out(a.N());
-  for (int i = 0; i < a.N(); i++) out[i] = a[i];
-  return out;
 }
 void copyInto(KN<double> &a, const double *values, int n) {
   if (a.N() != n) a.resize(n);

@@ -53,10 +53,12 @@
 #include <string>
 #include <vector>
 #include "kernel/kernel.hpp"
+#include "kernel/ffarrays.hpp"
 
 namespace {
 using contactkernel::Kernel;
 using contactkernel::currentKernel;
+using contactkernel::copyOf;
 
 // a contact node of this rank: its rows (component k of the rotated node at row[k]; the first
 // `slots` are its slots, in the order of local[]), dim rows in all
@@ -115,27 +117,14 @@ double peakMegabytes() {
   return usage.ru_maxrss / 1024.;
 }
 
-std::vector<double> copyOf(const KN<double> &a) {
-  std::vector<double> out(a.N());
-  for (int i = 0; i < a.N(); i++) out[i] = a[i];
-  return out;
-}
-MatriceMorse<double> *morse(Matrice_Creuse<double> *A) {
-  if (!A->A) return nullptr;
-  MatriceMorse<double> *m = dynamic_cast<MatriceMorse<double> *>((MatriceCreuse<double> *)A->A);
-  if (!m) ExecError("contactRanks: the matrix is not a sparse (Morse) matrix");
-  m->COO();
-  return m;
-}
 // the entries (i, j, a) of a FreeFEM matrix, 0-based, both halves of a symmetric one
 template <class F> void forEachEntry(Matrice_Creuse<double> *A, F f) {
-  MatriceMorse<double> *m = morse(A);
-  if (!m) return;
-  const int base = m->fortran ? 1 : 0;
-  for (size_t e = 0; e < (size_t)m->nnz; e++) {
-    const int i = m->i[e] - base, j = m->j[e] - base;
-    f(i, j, m->aij[e]);
-    if (m->half && i != j) f(j, i, m->aij[e]);
+  const contactkernel::SparseTriplets t = contactkernel::coo(A);
+  const int base = t.oneBased ? 1 : 0;
+  for (size_t e = 0; e < t.count; e++) {
+    const int i = t.row[e] - base, j = t.column[e] - base;
+    f(i, j, t.value[e]);
+    if (t.lowerHalf && i != j) f(j, i, t.value[e]);
   }
 }
 
@@ -419,18 +408,17 @@ long contact(Matrice_Creuse<double> *const &pC, string *const &path, const doubl
 
 // ---------------------------------------------------------------- a step
 struct Reduced { double residual, meritSquared; long unresolved; };
+// the pieces, the residual (its largest over the ranks), the merit's square and the unresolved
+// statuses (their sums) at the rank's (c, m)
 Reduced evaluateAll(std::vector<double> &c, std::vector<double> &m) {
   contactlaw::Slots &law = state.law;
   const double worst = law.n ? law.evaluate(c.data(), m.data()) : 0.;
-  double local[2] = {std::isnan(worst) ? INFINITY : worst, 0}, global[2];
-  for (int j = 0; j < law.n; j++) local[1] += law.mismatch[j] * law.mismatch[j];
-  if (std::isnan(local[1])) local[1] = INFINITY;
-  MPI_Allreduce(local, global, 2, MPI_DOUBLE, MPI_MAX, MPI_COMM_WORLD);
-  double sum = 0;
-  MPI_Allreduce(&local[1], &sum, 1, MPI_DOUBLE, MPI_SUM, MPI_COMM_WORLD);
-  long unresolved = law.n ? law.unresolvedStatuses(c.data()) : 0, total = 0;
-  MPI_Allreduce(&unresolved, &total, 1, MPI_LONG, MPI_SUM, MPI_COMM_WORLD);
-  return {global[0], sum, total};
+  const double merit = law.n ? law.merit() : 0.;
+  double residual = std::isnan(worst) ? INFINITY : worst, sums[2] = {std::isnan(merit) ? INFINITY : merit * merit,
+                                                                       law.n ? (double)law.unresolvedStatuses(c.data()) : 0.};
+  MPI_Allreduce(MPI_IN_PLACE, &residual, 1, MPI_DOUBLE, MPI_MAX, MPI_COMM_WORLD);
+  MPI_Allreduce(MPI_IN_PLACE, sums, 2, MPI_DOUBLE, MPI_SUM, MPI_COMM_WORLD);
+  return {residual, sums[0], (long)sums[1]};
 }
 
 // the Newton system of the pieces at the last evaluation, solved: w, then c and m of the slots

@@ -103,7 +103,7 @@ bool quietRank() {
   return rank && std::string(rank) != "0";
 }
 
-const bool otherRank = quietRank();                // (for the signal handler: no getenv there)
+const bool otherRank = quietRank();                // (read once, as the plugin loads: the signal handler may not call getenv)
 
 // _Exit: FreeFEM's exit handlers would print trace lines after the message. Another rank than
 // the first waits 3 s before it says why and stops: where every rank checks the same data the
@@ -112,7 +112,7 @@ const bool otherRank = quietRank();                // (for the signal handler: n
 [[noreturn]] void fail(int code, const std::string &message) {
   std::cout.flush();
   cleanUp();
-  if (quietRank()) {                               // said after 3 s, if mpirun has not stopped this rank by then
+  if (otherRank) {                                 // said after 3 s, if mpirun has not stopped this rank by then
     std::fflush(nullptr);
     sleep(3);
     if (!message.empty()) toStderr("error: (rank " + std::string(std::getenv("OMPI_COMM_WORLD_RANK")) + ") " + shown(message) + "\n");
@@ -127,7 +127,7 @@ const bool otherRank = quietRank();                // (for the signal handler: n
 long runError(const long &code, std::string *const &message) { fail((int)code, *message); }
 // progress and the Newton log: unbuffered, so that they interleave with FreeFEM's own output
 long runNote(std::string *const &message) {
-  if (quietRank()) return 0;
+  if (otherRank) return 0;
   toStderr(shown(*message) + "\n");
   return 0;
 }

@@ -20,14 +20,20 @@
 namespace runtools {
 
 namespace {
+// An argument vector for exec*: the strings' characters, then the null pointer (args must outlive it)
+std::vector<char *> execArguments(const std::vector<std::string> &args) {
+  std::vector<char *> argv;
+  for (auto &a : args) argv.push_back(const_cast<char *>(a.c_str()));
+  argv.push_back(nullptr);
+  return argv;
+}
+
 // The child's standard output and error go into log. The child stops with the run: the signal
 // handler kills it (runningChild), and PR_SET_PDEATHSIG kills it when the run dies otherwise,
 // even from SIGKILL. Returns its exit status, 128 + the signal that ended it, or 127 when it
 // could not be started.
 int spawnAndWait(const std::string &file, const std::vector<std::string> &args, const std::string &log = "/dev/null") {
-  std::vector<char *> argv;
-  for (auto &a : args) argv.push_back(const_cast<char *>(a.c_str()));
-  argv.push_back(nullptr);
+  std::vector<char *> argv = execArguments(args);
   const pid_t parent = getpid();
   const pid_t child = fork();
   if (child < 0) return 127;
@@ -58,7 +64,6 @@ std::vector<std::string> ownArguments() {
 
 // CONTACT_SUITE_RESTART = this process's id marks the restart's own -Ddimension=3
 const char *restartVariable = "CONTACT_SUITE_RESTART";
-// CONTACT_SUITE_RANKS: set for the ranks of a run started under mpirun by runLaunchRanks
 
 // FreeFem++'s lexer reads an argument that starts with '-' or 'D' and whose first '=' comes
 // after its fourth character as a macro definition, named by its characters from the third to
@@ -229,11 +234,8 @@ long runRestartWith(std::string *const &extra) {
   if (args.empty()) return 1;
   args.push_back(*extra);
   setenv(restartVariable, std::to_string(getpid()).c_str(), 1);
-  std::vector<char *> argv;
-  for (auto &a : args) argv.push_back(const_cast<char *>(a.c_str()));
-  argv.push_back(nullptr);
   std::fflush(nullptr);
-  execv("/proc/self/exe", argv.data());
+  execv("/proc/self/exe", execArguments(args).data());
   return 1;
 }
 
@@ -255,16 +257,12 @@ long runLaunchRanks(const long &count, const long &dimension) {
   }
   args.push_back("-DranksMode=1");
   if (dimension == 3) args.push_back("-Ddimension=3");
-  setenv("CONTACT_SUITE_RANKS", std::to_string(count).c_str(), 1);
   if (geteuid() == 0) {                            // Open MPI refuses root unless told twice
     setenv("OMPI_ALLOW_RUN_AS_ROOT", "1", 1);
     setenv("OMPI_ALLOW_RUN_AS_ROOT_CONFIRM", "1", 1);
   }
-  std::vector<char *> argv;
-  for (auto &a : args) argv.push_back(const_cast<char *>(a.c_str()));
-  argv.push_back(nullptr);
   std::fflush(nullptr);
-  execvp("mpirun", argv.data());
+  execvp("mpirun", execArguments(args).data());
   return 1;
 }
 

@@ -32,6 +32,9 @@ expect_failure "-ranks with the fixed point" 2 "option -solver fixedpoint: -rank
 expect_failure "-ranks with -estimate on" 2 "option -estimate on: the error estimates' companion run is a one-process run" -ranks 2 -estimate on
 expect_failure "-ranks with -adapt" 2 "option -adapt: mesh adaptation runs on one process" -ranks 2 -adapt 1
 expect_failure "-ranks out of range" 2 "option -ranks" -ranks 300
+# The scale of the matrix entries, checked on the ranks' distributed M, A, B (no rank holds them
+# whole): the largest entry the one-process run names, exit 2, nothing written
+expect_failure "-ranks: material data whose matrix entries pass 1e20" 2 "the material data, the time step \(-rho 2e-6 -E 1e40 .*\) and the mesh's lengths give matrix entries up to 2.91667e\+38" -ranks 2 -E 1e40 -T 0.05
 # A step the ranks' Newton cannot solve: exit 4 with the step and residual, nothing written
 expect_failure "-ranks: a step that does not converge" 4 "step 1 \(t = [^)]*\): the contact solver did not converge after 1 iterations" -ranks 2 -T 0.1 -maxit 1
 # A linear solve that fails (GMRES capped at one iteration through PETSc's options): exit 4

@@ -20,6 +20,7 @@
 #include <cmath>
 #include <cstddef>
 #include <fstream>
+#include <functional>
 #include <string>
 #include <vector>
 #include "contactlaw.hpp"
@@ -133,8 +134,18 @@ struct ProductMatrices {
   std::vector<int> blockStart, blockColumn;
   std::vector<double> blockValues;  // 12 per block: rows 2I, 2I+1 by columns 2J, 2J+1, each M, A, B
 
+  // -ranks: the products computed elsewhere (the ranks' distributed M, A, B: ranks.cpp), the
+  // three results whole on the first rank; none of the above is held then
+  std::function<void(const double *x, double *mx, double *ax, double *bx)> external;
+
   // row(i, (M x)_i, (A x)_i, (B x)_i) for i = 0 .. n-1, in that order
   template <class Row> void forEachRow(const double *x, Row row) const {
+    if (external) {
+      std::vector<double> mx(n), ax(n), bx(n);
+      external(x, mx.data(), ax.data(), bx.data());
+      for (int i = 0; i < n; i++) row(i, mx[i], ax[i], bx[i]);
+      return;
+    }
     if (blocked) {
       const double *val = blockValues.data();
       const int *col = blockColumn.data();

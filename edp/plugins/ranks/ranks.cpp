@@ -5,8 +5,9 @@
 //
 // What each rank holds: the rows of S = M/k + A + kB + C'W Kn C of the vertices it owns
 // (PETSc's MPIAIJ; assembled from the elements of its part of the mesh, each rank passing
-// the triplets of its own elements), the rows of the node rotation R, and the contact nodes of
-// its vertices with their slots. A step is a semismooth Newton on the whole system, in the
+// the triplets of its own elements), the same rows of M, A and B (the record's products, which
+// rank 0's kernel asks for through products.external), the rows of the node rotation R, and the
+// contact nodes of its vertices with their slots. No rank holds a matrix whole. A step is a semismooth Newton on the whole system, in the
 // nodes' frames (w = R'v: a contact node's rows become its slots' velocities):
 //   R'SR w + W m = R'b on the slots' rows, and on each slot its piece's relation
 //   sum_t a_t c + sum_t d_t m = h (contactlaw.hpp, Slots::relations), c = w there.
@@ -32,9 +33,15 @@
 //   contactRanksContact(matrix C, string path, real tol, int maxit, real r)  the contact nodes of the rank's
 //       vertices, their frames and the law's data of their slots (from the kernel instance, which
 //       contactKernelNodes filled), the solver path (direct or iterative)
+//   contactRanksProducts(matrix M, matrix A, matrix B, int[int] l2g, real[int] largest)  M, A, B of
+//       the rank's elements, distributed as S is; rank 0's record takes its products from them;
+//       largest: their largest entries
 //   contactRanksStep(real[int] rhs, real[int] v, real[int] c, real[int] m, real[int] info)
-//       one step from rank 0's rhs and start (c, m); rank 0 gets v, c, m and info (the columns
+//       (rank 0) one step from its rhs and start (c, m); it gets v, c, m and info (the columns
 //       "solver_info"); returns the iterations, or -1 (every rank: no convergence)
+//   contactRanksServe(real[int] rhs, real[int] v, real[int] c, real[int] m, real[int] info)
+//       (the other ranks) their part of every step and product rank 0 asks for, until rank 0
+//       calls contactRanksPeaks at the end of its time loop
 //   contactRanksFailure(0)  why the last step's linear solve failed, "" if it did not
 //   contactRanksPeaks(real[int] peaks)  rank 0 gets every rank's peak memory (MB)
 //   contactRanksCounters(real[int] counts)  Newton iterations, linear solves (each builds its
@@ -78,6 +85,8 @@ struct RankState {
   std::vector<double> xyz;                // owned vertices' coordinates (the rigid-body modes)
   std::vector<char> fixedOwned;           // the owned rows fixed by a Dirichlet condition
   Mat S = nullptr, R = nullptr, Srot = nullptr, J = nullptr;
+  Mat products[3] = {nullptr, nullptr, nullptr};   // M, A, B: the record's products (contactRanksProducts)
+  Vec x = nullptr, px[3] = {nullptr, nullptr, nullptr};
   Vec b = nullptr, brot = nullptr, w = nullptr, bJ = nullptr, Sw = nullptr, x0 = nullptr, vOwned = nullptr;
   KSP ksp = nullptr;
   MatNullSpace nearNull = nullptr;
@@ -126,6 +135,17 @@ template <class F> void forEachEntry(Matrice_Creuse<double> *A, F f) {
     f(i, j, t.value[e]);
     if (t.lowerHalf && i != j) f(j, i, t.value[e]);
   }
+}
+
+// ---------------------------------------------------------------- what rank 0 asks of the others
+// Rank 0 runs the script's time loop; the other ranks serve it (contactRanksServe): each
+// collective it starts is announced by a command, broadcast from rank 0.
+enum Command { CommandStep = 1, CommandProducts = 2, CommandEnd = 3 };
+void announce(int command) { if (state.rank == 0) MPI_Bcast(&command, 1, MPI_INT, 0, MPI_COMM_WORLD); }
+int nextCommand() {
+  int command = 0;
+  MPI_Bcast(&command, 1, MPI_INT, 0, MPI_COMM_WORLD);
+  return command;
 }
 
 // ---------------------------------------------------------------- start, numbering
@@ -189,6 +209,23 @@ long numbering(KN<long> *const &pRowOf, const long &owned) {
 }
 
 // ---------------------------------------------------------------- S
+// the MPIAIJ matrix (n x n, the owned rows) of the triplets (I, J, V), repeated ones summed;
+// the triplets emptied. PETSc keeps the COO maps of a matrix for a next MatSetValuesCOO (two
+// counts per triplet): the matrix returned is a copy without them.
+Mat assembledCOO(std::vector<PetscInt> &I, std::vector<PetscInt> &Jc, std::vector<PetscScalar> &V, int blockSize) {
+  Mat coo, out;
+  CHECK(MatCreate(PETSC_COMM_WORLD, &coo));
+  CHECK(MatSetSizes(coo, state.owned, state.owned, state.n, state.n));
+  CHECK(MatSetType(coo, MATAIJ));
+  CHECK(MatSetBlockSize(coo, blockSize));
+  CHECK(MatSetPreallocationCOO(coo, (PetscCount)I.size(), I.data(), Jc.data()));
+  std::vector<PetscInt>().swap(I); std::vector<PetscInt>().swap(Jc);
+  CHECK(MatSetValuesCOO(coo, V.data(), ADD_VALUES));
+  std::vector<PetscScalar>().swap(V);
+  CHECK(MatDuplicate(coo, MAT_COPY_VALUES, &out));
+  CHECK(MatDestroy(&coo));
+  return out;
+}
 long matrix(Matrice_Creuse<double> *const &pS, KN<long> *const &pl2g, Matrice_Creuse<double> *const &pD, KN<double> *const &pfixed,
             KN<double> *const &pxyz) {
   const KN<long> &l2g = *pl2g;
@@ -216,12 +253,46 @@ long matrix(Matrice_Creuse<double> *const &pS, KN<long> *const &pl2g, Matrice_Cr
     state.fixedOwned[i] = fixed[dof] != 0;
     state.xyz[i] = xyz[3 * (dof / state.dim) + dof % state.dim];
   }
-  CHECK(MatCreate(PETSC_COMM_WORLD, &state.S));
-  CHECK(MatSetSizes(state.S, state.owned, state.owned, state.n, state.n));
-  CHECK(MatSetType(state.S, MATAIJ));
-  CHECK(MatSetBlockSize(state.S, state.dim));
-  CHECK(MatSetPreallocationCOO(state.S, (PetscCount)I.size(), I.data(), Jc.data()));
-  CHECK(MatSetValuesCOO(state.S, V.data(), ADD_VALUES));
+  state.S = assembledCOO(I, Jc, V, state.dim);
+  return 0;
+}
+
+// ---------------------------------------------------------------- M, A, B for the record
+void multiplyProducts(const double *x, double *mx, double *ax, double *bx);
+// M, A, B of the rank's elements (local numbering; l2g: local to FreeFEM's global), assembled
+// into three MPIAIJ matrices (the rows of the rank's vertices); largest: their largest entries
+// |M_ij|, |A_ij|, |B_ij| (on every rank). On rank 0, the kernel's record takes its products from
+// them (products.external): no rank holds M, A or B whole.
+long productsBinding(Matrice_Creuse<double> *const &pM, Matrice_Creuse<double> *const &pA, Matrice_Creuse<double> *const &pB,
+                     KN<long> *const &pl2g, KN<double> *const &plargest) {
+  const KN<long> &l2g = *pl2g;
+  Matrice_Creuse<double> *local[3] = {pM, pA, pB};
+  KN<double> &largest = *plargest;
+  largest.resize(3);
+  for (int q = 0; q < 3; q++) {
+    std::vector<PetscInt> I, Jc;
+    std::vector<PetscScalar> V;
+    forEachEntry(local[q], [&](int i, int j, double a) {
+      if (i >= l2g.N() || j >= l2g.N()) ExecError("contactRanksProducts: the local matrix is larger than its map");
+      I.push_back(state.rowOf[l2g[i]]); Jc.push_back(state.rowOf[l2g[j]]); V.push_back(a);
+    });
+    Mat &P = state.products[q];
+    P = assembledCOO(I, Jc, V, 1);
+    Vec rowMax;
+    CHECK(MatCreateVecs(P, &state.px[q], &rowMax));
+    CHECK(MatGetRowMaxAbs(P, rowMax, nullptr));
+    PetscReal most = 0;
+    CHECK(VecNorm(rowMax, NORM_INFINITY, &most));
+    CHECK(VecDestroy(&rowMax));
+    largest[q] = most;
+  }
+  CHECK(VecDuplicate(state.px[0], &state.x));
+  if (state.rank == 0) {
+    Kernel &k = currentKernel();
+    k.products = contactkernel::ProductMatrices();
+    k.products.n = (int)state.n;
+    k.products.external = multiplyProducts;
+  }
   return 0;
 }
 
@@ -298,6 +369,7 @@ long contact(Matrice_Creuse<double> *const &pC, string *const &path, const doubl
   CHECK(MatAssemblyBegin(state.R, MAT_FINAL_ASSEMBLY));
   CHECK(MatAssemblyEnd(state.R, MAT_FINAL_ASSEMBLY));
   CHECK(MatPtAP(state.S, state.R, MAT_INITIAL_MATRIX, 1.5, &state.Srot));
+  CHECK(MatDestroy(&state.S));                                // (R'SR only from here on)
   CHECK(MatDuplicate(state.Srot, MAT_COPY_VALUES, &state.J));
   CHECK(MatSetOption(state.J, MAT_NEW_NONZERO_ALLOCATION_ERR, PETSC_TRUE));
   CHECK(MatSetOption(state.J, MAT_KEEP_NONZERO_PATTERN, PETSC_TRUE));
@@ -547,13 +619,39 @@ bool newtonSolve(std::vector<double> &c, std::vector<double> &m) {
 }
 
 // gathers the owned values (per row, or per slot) into rank 0's array in FreeFEM's numbering
-void gatherRows(const PetscScalar *owned, KN<double> &out) {
+void gatherRows(const PetscScalar *owned, double *out) {
   std::vector<double> all(state.rank == 0 ? state.n : 0);
   MPI_Gatherv(owned, (int)state.owned, MPI_DOUBLE, all.data(), state.rowCounts.data(), state.rowDispls.data(), MPI_DOUBLE, 0,
               MPI_COMM_WORLD);
-  if (state.rank == 0) {
-    if (out.N() != state.n) out.resize(state.n);
-    for (PetscInt i = 0; i < state.n; i++) out[state.allDofs[i]] = all[i];
+  if (state.rank == 0) for (PetscInt i = 0; i < state.n; i++) out[state.allDofs[i]] = all[i];
+}
+void gatherRows(const PetscScalar *owned, KN<double> &out) {
+  if (state.rank == 0 && out.N() != state.n) out.resize(state.n);
+  gatherRows(owned, state.rank == 0 ? &out[0] : nullptr);
+}
+// rank 0's array in FreeFEM's numbering, scattered into the owned rows of v
+void scatterRows(const double *in, Vec v) {
+  std::vector<double> all(state.rank == 0 ? state.n : 0);
+  if (state.rank == 0) for (PetscInt i = 0; i < state.n; i++) all[i] = in[state.allDofs[i]];
+  PetscScalar *owned;
+  CHECK(VecGetArray(v, &owned));
+  MPI_Scatterv(all.data(), state.rowCounts.data(), state.rowDispls.data(), MPI_DOUBLE, owned, (int)state.owned, MPI_DOUBLE, 0,
+               MPI_COMM_WORLD);
+  CHECK(VecRestoreArray(v, &owned));
+}
+
+// M x, A x, B x: rank 0's x, each rank multiplying its rows, the three products back on rank 0
+// (collective; rank 0 announces it: the kernel's record calls it through products.external)
+void multiplyProducts(const double *x, double *mx, double *ax, double *bx) {
+  announce(CommandProducts);
+  scatterRows(x, state.x);
+  double *out[3] = {mx, ax, bx};
+  for (int q = 0; q < 3; q++) {
+    CHECK(MatMult(state.products[q], state.x, state.px[q]));
+    const PetscScalar *p;
+    CHECK(VecGetArrayRead(state.px[q], &p));
+    gatherRows(p, out[q]);
+    CHECK(VecRestoreArrayRead(state.px[q], &p));
   }
 }
 void gatherSlots(const std::vector<double> &owned, KN<double> &out) {
@@ -570,6 +668,7 @@ long step(KN<double> *const &prhs, KN<double> *const &pv, KN<double> *const &pc,
   if (!state.ksp) ExecError("contactRanksStep: call contactRanksContact first");
   state.verbose = currentKernel().settings.verbose;    // (-verbose: the iterations on the standard error)
   state.failure = "";
+  announce(CommandStep);
   // rank 0's right-hand side and start, on every rank
   std::vector<double> rhs(state.n), c0(state.nc), m0(state.nc);
   if (state.rank == 0) {
@@ -644,11 +743,24 @@ long step(KN<double> *const &prhs, KN<double> *const &pv, KN<double> *const &pc,
   return converged ? it : -1;
 }
 
+// the other ranks: each step and each product rank 0 asks for, until the end of its time loop
+long serve(KN<double> *const &prhs, KN<double> *const &pv, KN<double> *const &pc, KN<double> *const &pm, KN<double> *const &pinfo) {
+  if (state.rank == 0) ExecError("contactRanksServe: rank 0 runs the time loop");
+  while (true) {
+    const int command = nextCommand();
+    if (command == CommandEnd) return 0;
+    if (command == CommandStep) step(prhs, pv, pc, pm, pinfo);
+    else if (command == CommandProducts) multiplyProducts(nullptr, nullptr, nullptr, nullptr);
+    else rankFail(3, "contactRanksServe: an unknown command from rank 0");
+  }
+}
+
 // why the last step failed in its linear solve, "" if it did not (every rank knows)
 string *failure(Stack stack, const long &) { return Add2StackOfPtr2Free(stack, new string(state.failure)); }
 
 // ---------------------------------------------------------------- the run's figures, the end
 long peaks(KN<double> *const &pout) {
+  announce(CommandEnd);                               // (the other ranks' contactRanksServe returns)
   double mine = peakMegabytes();
   std::vector<double> all(state.size);
   MPI_Gather(&mine, 1, MPI_DOUBLE, all.data(), 1, MPI_DOUBLE, 0, MPI_COMM_WORLD);
@@ -670,8 +782,9 @@ long finish() {
   if (state.started) {
     if (state.ksp) KSPDestroy(&state.ksp);
     if (state.nearNull) MatNullSpaceDestroy(&state.nearNull);
-    for (Mat *A : {&state.S, &state.R, &state.Srot, &state.J}) if (*A) MatDestroy(A);
-    for (Vec *v : {&state.b, &state.brot, &state.w, &state.bJ, &state.Sw, &state.x0, &state.vOwned}) if (*v) VecDestroy(v);
+    for (Mat *A : {&state.S, &state.R, &state.Srot, &state.J, &state.products[0], &state.products[1], &state.products[2]}) if (*A) MatDestroy(A);
+    for (Vec *v : {&state.b, &state.brot, &state.w, &state.bJ, &state.Sw, &state.x0, &state.vOwned, &state.x, &state.px[0], &state.px[1],
+                   &state.px[2]}) if (*v) VecDestroy(v);
     PetscFinalize();
     state.started = false;
   }
@@ -691,6 +804,8 @@ static void Load_Init() {
   Global.Add("contactRanksMatrix", "(", new OneOperator5_<long, Matrix, Integers, Matrix, Array, Array>(matrix));
   Global.Add("contactRanksContact", "(", new OneOperator5_<long, Matrix, string *, double, long, double>(contact));
   Global.Add("contactRanksStep", "(", new OneOperator5_<long, Array, Array, Array, Array, Array>(step));
+  Global.Add("contactRanksServe", "(", new OneOperator5_<long, Array, Array, Array, Array, Array>(serve));
+  Global.Add("contactRanksProducts", "(", new OneOperator5_<long, Matrix, Matrix, Matrix, Integers, Array>(productsBinding));
   Global.Add("contactRanksFailure", "(", new OneOperator1s_<string *, long>(failure));
   Global.Add("contactRanksPeaks", "(", new OneOperator1_<long, Array>(peaks));
   Global.Add("contactRanksCounters", "(", new OneOperator1_<long, Array>(counters));

@@ -9,7 +9,7 @@
 #   ./run.sh figures RUN_DIR [RUN_DIR ...]   every figure of those run folders, into RUN_DIR/figures
 #   ./run.sh animate RUN_DIR the deformed body over time (a run with -vtk N) -> RUN_DIR/figures
 #   ./run.sh bench [--quick] the benchmark: cost per step, work-precision (results/bench)
-#   ./run.sh bench-ranks [--quick | --big]   -ranks N: scaling, the slab beyond one process (results/bench_ranks)
+#   ./run.sh bench-ranks [--quick | --iterative | --big]   -ranks N: scaling, the slab beyond one process (results/bench_ranks)
 #   ./run.sh stability [--quick]  where each method fails (results/stability)
 #   ./run.sh sweep -NAME V1,V2,... [options] -out DIR [-plot Q,...] [-jobs N]   one solve per value -> DIR
 # Checks for FreeFem++, gmsh, numdiff and python3 with matplotlib first, and installs
@@ -143,7 +143,18 @@ ensure_ranks() { # the packages and the plugin of -ranks
   fi
   build_ranks_kernel
 }
-wants_ranks() { local a; for a in "$@"; do [ "$a" = -ranks ] && return 0; done; return 1; }
+# does this solve run on ranks: -ranks N, N > 0, on the command line; without -ranks there, a
+# scene file (-scene FILE, else -restart DIR's DIR/scene.scene) whose line 'ranks N' says so
+wants_ranks() {
+  local previous="" a value="" scene="" restart=""
+  for a in "$@"; do
+    case "$previous" in -ranks) value="$a" ;; -scene) scene="$a" ;; -restart) restart="$a" ;; esac
+    previous="$a"
+  done
+  if [ -n "$value" ]; then [[ "$value" =~ ^[0-9]+$ ]] && [ "$((10#$value))" -gt 0 ]; return; fi   # (a bad value: solve refuses it)
+  [ -z "$scene" ] && [ -n "$restart" ] && scene="$restart/scene.scene"
+  [ -f "$scene" ] && grep -Eq '^[[:space:]]*ranks[[:space:]]+0*[1-9]' "$scene" 2>/dev/null
+}
 
 ensure_dependencies() { # ensure_dependencies [solve|bench|test]
   if ! missing_dependencies "${1:-}"; then build_kernel; return 0; fi

@@ -59,3 +59,28 @@ expect_failure "-ranks: a rank without elements" 2 "option -ranks 2: the mesh's 
 export PETSC_OPTIONS="-ranks_ksp_rtol 1"
 expect_failure "-ranks: a linear solve above 1e-8 |b|" 4 "the linear solve of a Newton iteration .* relative residual [0-9.e+-]+ \(PETSc's reason DIVERGED_DTOL, or a residual above 1e-8 after its own test\)" -ranks 2 -ranksolver iterative -T 0.05
 unset PETSC_OPTIONS
+# An error of PETSc on a rank (an option it refuses): said with the rank, exit 3, nothing written
+export PETSC_OPTIONS="-ranks_pc_type nosuchpc"
+expect_failure "-ranks: PETSc refuses an option of PETSC_OPTIONS" 3 "error: rank 0 of 2: PETSc error [0-9]+ in KSPSetFromOptions" -ranks 2 -T 0.02
+unset PETSC_OPTIONS
+# The engine in summary.txt is the solver as built: GAMG when PETSC_OPTIONS chooses it
+diag="$work/ranks-gamg.diag"; : > "$diag"; status=0
+rm -rf "$work/ranks-gamg"
+PETSC_OPTIONS="-ranks_pc_type gamg" solve -ranks 2 -ranksolver iterative -T 0.02 -quiet -out "$work/ranks-gamg" >> "$diag" 2>&1 || status=1
+grep -qx "ranks_engine PETSc [0-9.]*, GMRES with GAMG" "$work/ranks-gamg/summary.txt" 2>/dev/null \
+  || { echo "summary.txt does not name GAMG:"; grep ranks_engine "$work/ranks-gamg/summary.txt"; } >> "$diag" 2>&1 || status=1
+report $status "ranks: ranks_engine names the preconditioner PETSC_OPTIONS chose (GAMG)" "$diag"
+# mpirun by hand: without -ranks N, or a 3D body without -Ddimension=3, refused (exit 2) saying
+# what to add; nothing written
+hand_refusal() { # hand_refusal NAME REGEX ARGS...
+  local name="$1" regex="$2" diag="$work/hand-refusal.diag" status=0 rc=0 out="$work/ranks-hand"; shift 2
+  rm -rf "$out"*
+  OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 timeout 300 mpirun -q -np 2 FreeFem++-mpi -nw -ns -v 0 edp/solve.edp \
+    -out "$out" "$@" > "$diag" 2>&1 || rc=$?
+  [ "$rc" = 2 ] || { echo "exit code $rc, expected 2" >> "$diag"; status=1; }
+  grep -Eq "$regex" "$diag" || { echo "message does not match /$regex/" >> "$diag"; status=1; }
+  if compgen -G "$out*" > /dev/null; then echo "results were written in $out" >> "$diag"; status=1; fi
+  report $status "refused: mpirun by hand $name" "$diag"
+}
+hand_refusal "without -ranks N" "the run under mpirun \(-DranksMode=1\) needs option -ranks N" -T 0.02 -DranksMode=1
+hand_refusal "for a 3D body without -Ddimension=3" "oblique-slide3d.scene is 3D: under mpirun, give -Ddimension=3 with -DranksMode=1" -ranks 2 -scene oblique-slide3d -T 0.02 -DranksMode=1

@@ -99,6 +99,8 @@ struct RankState {
   std::vector<int> slotCounts, slotDispls, allSlots;   // rank 0
   int nc = 0;                             // all slots
   bool direct = true, verbose = false;
+  PetscBool baseFactor = PETSC_FALSE;     // -ranks_base_factor: the direct path's LU of R'SR, once
+
   double tol = 1e-10;
   int maxit = 50;
   long newtonIterations = 0, linearSolves = 0, linearIterations = 0;
@@ -106,11 +108,13 @@ struct RankState {
 };
 RankState state;
 
-// An error of one rank: said with the rank, then the run stops as on a signal (runtools' handler
-// removes the unfinished output folder; mpirun stops the other ranks)
+// An error of one rank: said with the rank, then the run stops as on a signal, but with the
+// exit code given (runtools' handler removes the unfinished output folder and exits with
+// CONTACT_SUITE_RANK_FAILED; mpirun stops the other ranks)
 [[noreturn]] void rankFail(int code, const std::string &message) {
   std::fprintf(stderr, "error: rank %d of %d: %s; no results written\n", state.rank, state.size, message.c_str());
   std::fflush(stderr);
+  setenv("CONTACT_SUITE_RANK_FAILED", std::to_string(code).c_str(), 1);   // runtools' handler: exit with code, said already
   raise(SIGTERM);
   MPI_Abort(MPI_COMM_WORLD, code);
   std::_Exit(code);
@@ -164,8 +168,40 @@ long start(string *const &options) {
 }
 
 // the engine as summary.txt names it: PETSc's version and the linear solver of the path
+// (-ranks_base_factor in PETSC_OPTIONS: the direct path's LU is R'SR's, made once per run;
+// a measurement, docs/performance.md, "Across ranks")
+bool baseFactorAsked() {
+  PetscBool flag = PETSC_FALSE;
+  PetscOptionsGetBool(nullptr, "ranks_", "-base_factor", &flag, nullptr);
+  return flag;
+}
+// (once the solver is built, contactRanksContact, the Krylov method and preconditioner it has:
+// PETSC_OPTIONS may have chosen others, e.g. -ranks_pc_type gamg)
+std::string builtSolver() {
+  KSPType krylov;
+  PCType preconditioner;
+  PC pc;
+  CHECK(KSPGetType(state.ksp, &krylov));
+  CHECK(KSPGetPC(state.ksp, &pc));
+  CHECK(PCGetType(pc, &preconditioner));
+  std::string method = std::string(krylov) == KSPGMRES ? "GMRES" : std::string("PETSc's ") + krylov, with;
+  const std::string p = preconditioner ? preconditioner : "none";
+  if (p == PCLU || p == PCCHOLESKY) {
+    MatSolverType package = nullptr;
+    CHECK(PCFactorGetMatSolverType(pc, &package));
+    with = (package && std::string(package) == MATSOLVERMUMPS ? std::string("MUMPS") : std::string(package ? package : "PETSc")) + (p == PCLU ? " LU" : " Cholesky")
+           + (state.baseFactor ? " of R'SR, once per run" : "");
+  } else if (p == PCHYPRE) {
+    const char *kind = nullptr;
+    CHECK(PCHYPREGetType(pc, &kind));
+    with = kind && std::string(kind) == "boomeramg" ? "BoomerAMG" : std::string("hypre ") + (kind ? kind : "");
+  } else if (p == PCGAMG) with = "GAMG";
+  else with = "PETSc's preconditioner " + p;
+  return method + " with " + with;
+}
 string *engine(Stack stack, string *const &path) {
-  const std::string solver = *path == "direct" ? "GMRES with MUMPS LU" : "GMRES with BoomerAMG";
+  const std::string solver = state.ksp ? builtSolver() : *path != "direct" ? "GMRES with BoomerAMG"
+                             : baseFactorAsked() ? "GMRES with MUMPS LU of R'SR, once per run" : "GMRES with MUMPS LU";
   return Add2StackOfPtr2Free(stack, new string("PETSc " + std::to_string(PETSC_VERSION_MAJOR) + "." + std::to_string(PETSC_VERSION_MINOR) + "."
                                                     + std::to_string(PETSC_VERSION_SUBMINOR) + ", " + solver));
 }
@@ -304,6 +340,7 @@ long contact(Matrice_Creuse<double> *const &pC, string *const &path, const doubl
   const int dim = state.dim, nc = k.law.n;
   state.nc = nc;
   state.direct = *path == "direct";
+  state.baseFactor = state.direct && baseFactorAsked() ? PETSC_TRUE : PETSC_FALSE;
   state.tol = tol;
   state.maxit = (int)maxit;
   // C by slots: (dof, value) pairs
@@ -577,7 +614,8 @@ bool newtonSolve(std::vector<double> &c, std::vector<double> &m) {
   for (Vec v : {state.x0, state.bJ}) { CHECK(VecAssemblyBegin(v)); CHECK(VecAssemblyEnd(v)); }
   std::sort(rows.begin(), rows.end());
   CHECK(MatZeroRowsColumns(state.J, (PetscInt)rows.size(), rows.data(), 1., state.x0, state.bJ));
-  CHECK(KSPSetOperators(state.ksp, state.J, state.J));
+  // (-ranks_base_factor: preconditioned by R'SR, which never changes: factorized once)
+  CHECK(KSPSetOperators(state.ksp, state.J, state.baseFactor ? state.Srot : state.J));
   CHECK(KSPSolve(state.ksp, state.bJ, state.w));
   KSPConvergedReason reason;
   PetscInt its;
@@ -594,8 +632,8 @@ bool newtonSolve(std::vector<double> &c, std::vector<double> &m) {
   if (reason >= 0 && !(norm <= 1e-8 * bnorm)) reason = KSP_DIVERGED_DTOL;
   if (reason < 0) {
     char text[400];
-    std::snprintf(text, sizeof text, "the linear solve of a Newton iteration (-ranksolver %s: GMRES with %s) stopped after %d iterations, "
-                  "relative residual %.3g (PETSc's reason %s)", state.direct ? "direct" : "iterative", state.direct ? "MUMPS LU" : "BoomerAMG",
+    std::snprintf(text, sizeof text, "the linear solve of a Newton iteration (-ranksolver %s: %s) stopped after %d iterations, "
+                  "relative residual %.3g (PETSc's reason %s)", state.direct ? "direct" : "iterative", builtSolver().c_str(),
                   (int)its, bnorm > 0 ? (double)(norm / bnorm) : (double)norm,
                   norm > 1e-8 * bnorm && reason == KSP_DIVERGED_DTOL ? "DIVERGED_DTOL, or a residual above 1e-8 after its own test" : KSPConvergedReasons[reason]);
     state.failure = text;

@@ -155,6 +155,9 @@ void onSignal(int signal) {
     say(removed ? ": the run removed its unfinished output folder\n" : "\n");
     _exit(7);
   }
+  // (ranks.cpp's rankFail: an error of PETSc on a rank, said already; its exit code, not a signal's)
+  const char *rankFailed = signal == SIGTERM ? std::getenv("CONTACT_SUITE_RANK_FAILED") : nullptr;
+  if (rankFailed) _exit(std::atoi(rankFailed) > 0 ? std::atoi(rankFailed) : 3);
   const char *crash = crashName(signal);
   if (crash) { say("error: the run crashed ("); say(crash); say(": a bug, or too little memory)"); }
   else if (!otherRank) say("interrupted");         // (another rank of -ranks: mpirun stops it after the first rank failed)

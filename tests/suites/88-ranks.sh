@@ -27,6 +27,10 @@ ranks_agreement() { # ranks_agreement NAME OPTIONS...: one process, then 2 ranks
 ranks_agreement paper -scene paper -T 0.2
 ranks_agreement paper-penalty -scene paper -problem penalty -T 0.2
 ranks_agreement slide3d -scene oblique-slide3d -T 0.1
+# twisted3d, pushed on (-load 30): the slip direction along the stress to the checker's 1e-9 g
+# (the ranks' Newton stopped at -tol with a cross component 5e3 times one process's: one more
+# iteration once the pieces settle)
+ranks_agreement twisted3d-load30 -scene twisted3d -load 30
 # What the run on ranks does not do, refused by name before mpirun starts; no output written
 expect_failure "-ranks with the fixed point" 2 "option -solver fixedpoint: -ranks runs Newton only" -ranks 2 -solver fixedpoint
 expect_failure "-ranks with -estimate on" 2 "option -estimate on: the error estimates' companion run is a one-process run" -ranks 2 -estimate on
@@ -84,3 +88,4 @@ hand_refusal() { # hand_refusal NAME REGEX ARGS...
 }
 hand_refusal "without -ranks N" "the run under mpirun \(-DranksMode=1\) needs option -ranks N" -T 0.02 -DranksMode=1
 hand_refusal "for a 3D body without -Ddimension=3" "oblique-slide3d.scene is 3D: under mpirun, give -Ddimension=3 with -DranksMode=1" -ranks 2 -scene oblique-slide3d -T 0.02 -DranksMode=1
+hand_refusal "with -ranks N but without -DranksMode=1" "option -ranks 2 under mpirun: add -DranksMode=1" -ranks 2 -T 0.02

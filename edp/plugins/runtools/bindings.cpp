@@ -143,6 +143,7 @@ template <class R, class A, class B, class C> void add(const char *name, R (*f)(
 static void Load_Init() {
   using namespace runtools;
   installSignalHandlers();                         // from the start: a signal at any moment removes what the run created
+  registerRank();                                  // -ranks N: the launching run can stop this rank at once
   std::atexit(onExit);
   checkCommandLine();                              // before any code of the script runs
   // messages.cpp: exit codes 2 option, 3 scene, mesh or suite file, 7 output folder or file

@@ -149,6 +149,7 @@ void say(const char *text) { if (write(2, text, std::strlen(text)) < 0) {} }
 // System calls only (the run may be stopped anywhere, inside malloc too). Then the signal's
 // default action, so that the caller sees the exit status 128 + signal.
 void onSignal(int signal) {
+  const bool launcher = runningRanks > 0;         // -ranks N: the run that started mpirun (its first rank says it)
   const bool removed = cleanUp();
   if (signal == SIGXFSZ) {                         // a file could not be written: the output folder's exit code
     say("error: a file of the run grew past the file-size limit (ulimit -f; SIGXFSZ)");
@@ -158,10 +159,10 @@ void onSignal(int signal) {
   // (ranks.cpp's rankFail: an error of PETSc on a rank, said already; its exit code, not a signal's)
   const char *rankFailed = signal == SIGTERM ? std::getenv("CONTACT_SUITE_RANK_FAILED") : nullptr;
   if (rankFailed) _exit(std::atoi(rankFailed) > 0 ? std::atoi(rankFailed) : 3);
-  const char *crash = crashName(signal);
+  const char *crash = launcher ? nullptr : crashName(signal);
   if (crash) { say("error: the run crashed ("); say(crash); say(": a bug, or too little memory)"); }
-  else if (!otherRank) say("interrupted");         // (another rank of -ranks: mpirun stops it after the first rank failed)
-  if (crash || !otherRank) say(removed ? ": the run removed its unfinished output folder\n" : "\n");
+  else if (!otherRank && !launcher) say("interrupted");         // (another rank of -ranks: mpirun stops it after the first rank failed)
+  if (crash || (!otherRank && !launcher)) say(removed ? ": the run removed its unfinished output folder\n" : "\n");
   struct sigaction action = {};
   action.sa_handler = SIG_DFL;
   sigaction(signal, &action, nullptr);

@@ -16,6 +16,7 @@
 #include <sys/file.h>
 #include <sys/stat.h>
 #include <sys/syscall.h>
+#include <sys/wait.h>
 #include <unistd.h>
 
 namespace runtools {
@@ -40,6 +41,36 @@ void recordMadeParent(const std::string &folder) {
 }  // namespace
 
 volatile pid_t runningChild = 0;
+volatile pid_t runningRanks = 0;
+char ranksPidFileC[4096];
+
+// -ranks N, the run that started mpirun, on a signal: SIGTERM to each rank at once (mpirun passes
+// a signal on only after about a second, while the first rank may still write the outputs;
+// each rank's handler removes what it created), and to mpirun; then waits for mpirun. System
+// calls only.
+void stopRanks() {
+  const pid_t launcher = runningRanks;
+  if (launcher <= 0) return;
+  static char ids[1 << 14];
+  const int fd = open(ranksPidFileC, O_RDONLY);
+  long got = 0;
+  if (fd >= 0) {
+    long n;
+    while (got < (long)sizeof ids - 1 && (n = read(fd, ids + got, sizeof ids - 1 - got)) > 0) got += n;
+    close(fd);
+  }
+  long id = 0;
+  for (long i = 0; i <= got; i++) {
+    if (i < got && ids[i] >= '0' && ids[i] <= '9') { id = 10 * id + (ids[i] - '0'); continue; }
+    if (id > 1) kill((pid_t)id, SIGTERM);
+    id = 0;
+  }
+  kill(launcher, SIGTERM);
+  int status;
+  while (waitpid(launcher, &status, 0) < 0 && errno == EINTR) {}
+  unlink(ranksPidFileC);
+  runningRanks = 0;
+}
 
 void rememberTemporary(const std::string &path) {
   haveTemporary = 0;
@@ -50,6 +81,7 @@ void forgetTemporary(const std::string &path) { if (haveTemporary && path == tem
 
 bool cleanUp() {
   const bool removed = cleanPartial;
+  stopRanks();
   if (runningChild > 0) { kill(runningChild, SIGKILL); runningChild = 0; }   // its file is removed below
   if (haveTemporary) { unlink(temporaryC); haveTemporary = 0; }
   if (cleanPartial) removeTree(partialPathC);

@@ -40,6 +40,9 @@ void onExit();
 // What the run created and a failure removes. The signal handler reads it, so it is kept in
 // fixed buffers and sig_atomic_t flags, and removed with system calls only.
 extern volatile pid_t runningChild;                // a gmsh to stop
+extern volatile pid_t runningRanks;                // -ranks N: the mpirun this run waits for (spawn.cpp)
+extern char ranksPidFileC[4096];                   // ... and the file where its ranks wrote their ids
+void stopRanks();                                  // SIGTERM to every rank and to mpirun, then waits for mpirun
 void rememberTemporary(const std::string &path);   // a file this run writes outside OUT
 void forgetTemporary(const std::string &path);
 bool cleanUp();                                    // true if it removed the unfinished output folder
@@ -53,6 +56,7 @@ long long posixChecksum(const std::string &path);
 
 // ---------------------------------------------------------------- spawn.cpp
 void checkCommandLine();
+void registerRank();                               // a rank of -ranks N: its id into the launching run's file
 std::string suiteVersion(const std::string &repository);   // git describe, or VERSION, or unknown
 std::string gmshVersion(const std::string &cacheFolder);    // gmsh --version (kept in cacheFolder)
 // ---------------------------------------------------------------- state.cpp

@@ -9,6 +9,7 @@
 #include <csignal>
 #include <cstdio>
 #include <cstdlib>
+#include <cstring>
 #include <fcntl.h>
 #include <fstream>
 #include <set>
@@ -244,6 +245,7 @@ long runRestartWith(std::string *const &extra) {
 // loads the ranks' kernel) and, for a 3D body, -Ddimension=3. mpirun's exit code is the run's.
 // Returns only if mpirun cannot be started (1).
 long runLaunchRanks(const long &count, const long &dimension) {
+  if (std::getenv("OMPI_COMM_WORLD_SIZE")) return 2;   // already under mpirun, without -DranksMode=1
   std::vector<std::string> own = ownArguments();
   if (own.empty()) return 1;
   const long cores = sysconf(_SC_NPROCESSORS_ONLN);
@@ -261,9 +263,48 @@ long runLaunchRanks(const long &count, const long &dimension) {
     setenv("OMPI_ALLOW_RUN_AS_ROOT", "1", 1);
     setenv("OMPI_ALLOW_RUN_AS_ROOT_CONFIRM", "1", 1);
   }
+  // the ranks write their ids into a file of this run (registerRank): on a signal, the handler
+  // stops them at once (stopRanks); mpirun is a child of this run, which waits for it and
+  // exits with its code (128 + the signal's number after a signal, as a run of one process)
+  const char *tmp = std::getenv("TMPDIR");
+  std::string pattern = std::string(tmp && *tmp ? tmp : "/tmp") + "/contact-ranks-XXXXXX";
+  std::vector<char> name(pattern.begin(), pattern.end());
+  name.push_back(0);
+  const int fd = mkstemp(name.data());
+  if (fd < 0 || name.size() > sizeof ranksPidFileC) return 1;
+  close(fd);
+  std::memcpy(ranksPidFileC, name.data(), name.size());
+  setenv("CONTACT_SUITE_RANK_IDS", ranksPidFileC, 1);
+  std::vector<char *> argv = execArguments(args);
   std::fflush(nullptr);
-  execvp("mpirun", execArguments(args).data());
-  return 1;
+  const pid_t parent = getpid();
+  const pid_t child = fork();
+  if (child < 0) { unlink(ranksPidFileC); return 1; }
+  if (child == 0) {                                // system calls only until exec
+    prctl(PR_SET_PDEATHSIG, SIGTERM);              // this run killed (even by SIGKILL): mpirun stops the ranks
+    if (getppid() != parent) _exit(127);
+    execvp("mpirun", argv.data());
+    _exit(127);
+  }
+  runningRanks = child;
+  int status = 0;
+  while (waitpid(child, &status, 0) < 0 && errno == EINTR) {}
+  runningRanks = 0;
+  unlink(ranksPidFileC);
+  if (WIFEXITED(status) && WEXITSTATUS(status) == 127) return 1;   // mpirun could not be started
+  std::fflush(nullptr);
+  std::_Exit(WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status));
+}
+
+// a rank of a run that runLaunchRanks started: its process id appended to that run's file
+void registerRank() {
+  const char *file = std::getenv("CONTACT_SUITE_RANK_IDS");
+  if (!file || !std::getenv("OMPI_COMM_WORLD_SIZE")) return;
+  const int fd = open(file, O_WRONLY | O_APPEND);
+  if (fd < 0) return;
+  const std::string line = std::to_string(getpid()) + "\n";
+  if (write(fd, line.data(), line.size()) < 0) {}
+  close(fd);
 }
 
 }  // namespace runtools

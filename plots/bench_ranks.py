@@ -8,10 +8,10 @@ and time per step at 1e7 and 1e8 unknowns against the ranks).
 The model, fitted by least squares on the rows of each path (its assumptions are printed in
 projection.txt):
   peak memory per rank (MB) = a + b n + c n^e / N
-    n the unknowns, N the ranks; b n is what every rank holds whole (the mesh, vectors of n,
-    on rank 0 also M, A, B), c n^e / N what is divided (the rows of S, R'SR and the Newton
-    matrix, and the factor: e = 1.4 for MUMPS, the fill measured on one process from 92k to
-    212k unknowns; e = 1 for GAMG);
+    n the unknowns, N the ranks; b n is what every rank holds whole (the mesh, vectors of n),
+    c n^e / N what is divided (the rows of M, A, B, R'SR and the Newton matrix, and the
+    factor or the AMG hierarchy: e = 1.4 for MUMPS, the fill measured on one process from 92k
+    to 212k unknowns; e = 1 for BoomerAMG);
   time per step (s) = t0 (n / n0)^f / min(N, cores)
     fitted on the runs with N <= cores (on more ranks than cores the ranks share them: those
     times are not scaling), f from the one-rank runs of two sizes; perfect strong scaling

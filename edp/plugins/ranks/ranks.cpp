@@ -22,7 +22,8 @@
 // FreeFEM functions (collective: every rank calls them, in the same order)
 //   contactRanksStart(string options)  PETSc started (MPI already is); options: PETSc's, e.g.
 //       "-ranks_ksp_view"; returns this rank
-//   contactRanksEngine(string path)  "PETSc 3.18.5, GMRES with MUMPS LU" (direct) or "..., GMRES with BoomerAMG"
+//   contactRanksEngine(0)  the solver as built (after contactRanksContact): "PETSc 3.18.5, GMRES
+//       with MUMPS LU" (direct), "..., GMRES with BoomerAMG" (iterative), or what PETSC_OPTIONS chose
 //   contactRanksShareText(string text)  rank 0's text, on every rank
 //   contactRanksNumbering(int[int] rowOf, int owned)  rowOf: the PETSc row of every FreeFEM
 //       degree of freedom (the same array on every rank); owned: the rows of this rank
@@ -175,13 +176,6 @@ long start(string *const &options) {
 }
 
 // the engine as summary.txt names it: PETSc's version and the linear solver of the path
-// (-ranks_base_factor in PETSC_OPTIONS: the direct path's LU is R'SR's, made once per run;
-// a measurement, docs/performance.md, "Across ranks")
-bool baseFactorAsked() {
-  PetscBool flag = PETSC_FALSE;
-  PetscOptionsGetBool(nullptr, "ranks_", "-base_factor", &flag, nullptr);
-  return flag;
-}
 // (once the solver is built, contactRanksContact, the Krylov method and preconditioner it has:
 // PETSC_OPTIONS may have chosen others, e.g. -ranks_pc_type gamg)
 std::string builtSolver() {
@@ -206,9 +200,9 @@ std::string builtSolver() {
   else with = "PETSc's preconditioner " + p;
   return method + " with " + with;
 }
-string *engine(Stack stack, string *const &path) {
-  const std::string solver = state.ksp ? builtSolver() : *path != "direct" ? "GMRES with BoomerAMG"
-                             : baseFactorAsked() ? "GMRES with MUMPS LU of R'SR, once per run" : "GMRES with MUMPS LU";
+string *engine(Stack stack, const long &) {
+  if (!state.ksp) ExecError("contactRanksEngine: call contactRanksContact first");
+  const std::string solver = builtSolver();
   return Add2StackOfPtr2Free(stack, new string("PETSc " + std::to_string(PETSC_VERSION_MAJOR) + "." + std::to_string(PETSC_VERSION_MINOR) + "."
                                                     + std::to_string(PETSC_VERSION_SUBMINOR) + ", " + solver));
 }
@@ -347,7 +341,10 @@ long contact(Matrice_Creuse<double> *const &pC, string *const &path, const doubl
   const int dim = state.dim, nc = k.law.n;
   state.nc = nc;
   state.direct = *path == "direct";
-  state.baseFactor = state.direct && baseFactorAsked() ? PETSC_TRUE : PETSC_FALSE;
+  // (-ranks_base_factor in PETSC_OPTIONS: the direct path's LU is R'SR's, made once per run; a
+  // measurement, docs/performance.md, "Across ranks")
+  state.baseFactor = PETSC_FALSE;
+  if (state.direct) PetscOptionsGetBool(nullptr, "ranks_", "-base_factor", &state.baseFactor, nullptr);
   state.tol = tol;
   state.maxit = (int)maxit;
   // C by slots: (dof, value) pairs
@@ -867,7 +864,7 @@ typedef Matrice_Creuse<double> *Matrix;
 
 static void Load_Init() {
   Global.Add("contactRanksStart", "(", new OneOperator1_<long, string *>(start));
-  Global.Add("contactRanksEngine", "(", new OneOperator1s_<string *, string *>(engine));
+  Global.Add("contactRanksEngine", "(", new OneOperator1s_<string *, long>(engine));
   Global.Add("contactRanksShareText", "(", new OneOperator1s_<string *, string *>(shareText));
   Global.Add("contactRanksNumbering", "(", new OneOperator2_<long, Integers, long>(numbering));
   Global.Add("contactRanksMatrix", "(", new OneOperator5_<long, Matrix, Integers, Matrix, Array, Array>(matrix));

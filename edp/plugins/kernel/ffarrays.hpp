@@ -1,6 +1,6 @@
 // ffarrays.hpp: FreeFEM's sparse matrices and arrays as the kernel's plain types, for the two
 // files that see FreeFEM's types: bindings.cpp (the kernel's FreeFEM functions) and
-// edp/plugins/ranks/ranks.cpp (the ranks' functions, built into the same plugin). Include
+// edp/plugins/ranks/ (the ranks' functions, built into the same plugin). Include
 // after ff++.hpp.
 #ifndef CONTACTKERNEL_FFARRAYS_HPP
 #define CONTACTKERNEL_FFARRAYS_HPP

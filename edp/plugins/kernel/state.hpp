@@ -134,7 +134,7 @@ struct ProductMatrices {
   std::vector<int> blockStart, blockColumn;
   std::vector<double> blockValues;  // 12 per block: rows 2I, 2I+1 by columns 2J, 2J+1, each M, A, B
 
-  // -ranks: the products computed elsewhere (the ranks' distributed M, A, B: ranks.cpp), the
+  // -ranks: the products computed elsewhere (the ranks' distributed M, A, B: edp/plugins/ranks/step.cpp), the
   // three results whole on the first rank; none of the above is held then
   std::function<void(const double *x, double *mx, double *ax, double *bx)> external;
 

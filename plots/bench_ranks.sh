@@ -11,7 +11,7 @@
 #   projection.txt    memory per unknown and per rank of each path (fitted on scaling.txt),
 #                     projected to 1e7 and 1e8 unknowns (plots/bench_ranks.py)
 #   ranks_*.png       the charts
-# --quick: the smallest mesh, N = 1, 2; --iterative: the iterative path's rows again (the
+# --quick: the smallest mesh, N = 1, 2; --iterative, --direct: that path's rows again (the
 # others kept); --big: the slab 96x48x48 (698,691 unknowns)
 # on 2 ranks, iterative path, and the direct path one size down (48x24x24) for its accuracy,
 # over one step (T = dt = 0.01).
@@ -25,14 +25,15 @@ case "${1:-}" in
   --quick) mode=quick ;;
   --big) mode=big ;;
   --iterative) mode=iterative ;;
+  --direct) mode=direct ;;
   "") ;;
-  *) echo "bench_ranks.sh: error: unknown argument '$1' (usage: bench_ranks.sh [--quick | --big | --iterative])" >&2; exit 2 ;;
+  *) echo "bench_ranks.sh: error: unknown argument '$1' (usage: bench_ranks.sh [--quick | --big | --iterative | --direct])" >&2; exit 2 ;;
 esac
 mkdir -p "$out/runs"
 table="$out/scaling.txt"
 case "$mode" in
   big) ;;
-  iterative) [ -f "$table" ] && sed -i '/ iterative /d' "$table"; rm -rf "$out/runs"/*iterative* ;;   # the iterative rows again
+  iterative|direct) [ -f "$table" ] && sed -i "/ $mode /d" "$table"; rm -rf "$out/runs"/*"$mode"* ;;   # that path's rows again
   *) rm -rf "$out/runs"/* "$table" ;;
 esac
 [ -f "$table" ] || echo "# name nx ny nz unknowns ranks path wall_s step_s newton_iterations linear_iterations memory_peak_rank_mb_max memory_peak_rank_mb_mean one_process_memory_mb one_process_step_s" > "$table"
@@ -77,9 +78,9 @@ if [ "$mode" = big ]; then
   "$PYTHON" plots/bench_ranks.py "$out"
   exit 0
 fi
-# At fixed size: N = 1, 2, 4, 8 (above 2 oversubscribed), both paths (--iterative: that one)
+# At fixed size: N = 1, 2, 4, 8 (above 2 oversubscribed), both paths (--iterative, --direct: that one)
 paths="direct iterative"
-[ "$mode" = iterative ] && paths=iterative
+{ [ "$mode" = iterative ] || [ "$mode" = direct ]; } && paths=$mode
 sizes=("24 12 12" "48 24 24")
 [ "$mode" = quick ] && sizes=("16 8 8")
 counts=(1 2 4 8)
@@ -92,7 +93,7 @@ for size in "${sizes[@]}"; do
   done
 done
 # At fixed size per rank: about 12,000 unknowns per rank (24x12x12 on one), N = 1, 2, 4, 8
-if [ "$mode" = full ] || [ "$mode" = iterative ]; then
+if [ "$mode" = full ] || [ "$mode" = iterative ] || [ "$mode" = direct ]; then
   for spec in "1 24 12 12" "2 30 15 15" "4 38 19 19" "8 48 24 24"; do
     read -r n nx ny nz <<< "$spec"
     for path in $paths; do run "weak-$nx-$path-$n" "$nx" "$ny" "$nz" "$n" "$path"; done

@@ -21,8 +21,11 @@ ranks_agreement() { # ranks_agreement NAME OPTIONS...: one process, then 2 ranks
       && [ "$(grep -c '^memory_peak_rank_mb_[01] [0-9.]*$' "$work/ranks-$name-$path/summary.txt")" = 2 ] \
       && grep -Eq '^memory_peak_rank_mb_max [0-9.]+$' "$work/ranks-$name-$path/summary.txt" \
       || { echo "$path: summary.txt lacks ranks, ranksolver, ranks_engine or memory_peak_rank_mb_*" >> "$diag"; status=1; }
+    # the direct path factorizes S once per run, as one process (MUMPS's factor changed state once)
+    [ "$path" = iterative ] || grep -qx "ranks_preconditioner_builds 1" "$work/ranks-$name-$path/summary.txt" \
+      || { echo "direct: not one factorization in the run: $(grep ranks_preconditioner_builds "$work/ranks-$name-$path/summary.txt")" >> "$diag"; status=1; }
   done
-  report $status "ranks: $name on 2 ranks (direct, iterative) = one process to 1e-9, zones identical" "$diag"
+  report $status "ranks: $name on 2 ranks (direct, iterative) = one process to 1e-9, zones identical; direct: one factorization" "$diag"
 }
 ranks_agreement paper -scene paper -T 0.2
 ranks_agreement paper-penalty -scene paper -problem penalty -T 0.2

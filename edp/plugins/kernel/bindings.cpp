@@ -159,10 +159,6 @@ double *plain(KN<double> &a, std::vector<double> &spare) {
   for (int i = 0; i < a.N(); i++) spare[i] = a[i];
   return spare.data();
 }
-void copyInto(KN<double> &a, const double *values, int n) {
-  if (a.N() != n) a.resize(n);
-  for (int i = 0; i < n; i++) a[i] = values[i];
-}
 string *newString(Stack stack, const std::string &text) { return Add2StackOfPtr2Free(stack, new string(text)); }
 
 // ---------------------------------------------------------------- instances, columns

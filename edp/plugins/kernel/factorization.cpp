@@ -22,6 +22,7 @@ void Factorization::release() {
   n = nc = nt = 0;
   Ltrail.clear(); slotOf.clear(); posOf.clear(); dofOf.clear(); valOf.clear();
   z.clear(); Dw.clear();
+  externalFree = nullptr; externalFinish = nullptr;
   if (!started) return;
   if (L) cholmod_free_factor(&L, &common);
   if (work) cholmod_free_dense(&work, &common);
@@ -253,7 +254,7 @@ long factorizeStep(Kernel &k, const StepMatrix &step, const SparseTriplets &C) {
 }
 
 void requireFactor(const Kernel &k, const char *who) {
-  if (!k.factor.L) kernelError(std::string("contactkernel: ") + who + " without a successful contactKernelFactorize");
+  if (!k.factor.L && !k.factor.externalFree) kernelError(std::string("contactkernel: ") + who + " without a successful contactKernelFactorize");
 }
 void requireSlots(const Kernel &k, const char *who) {
   if (!k.factor.L && !k.factor.external)
@@ -281,8 +282,35 @@ void requireDelassus(const Kernel &k, const char *who) {
     kernelError(std::string(who) + ": call contactKernelDelassus after the last contactKernelFactorize");
 }
 
+namespace {
+// r_j = r / Dw_jj once Dw is known: the stress a unit velocity of slot j produces through the
+// body, so that the default r = 1 fits any scene (a 3D node's tangential pair shares one: 1 over
+// the mean of its two Dw_jj)
+void settleDelassus(Kernel &k) {
+  Factorization &factor = k.factor;
+  const int nc = factor.nc;
+  factor.delassusGeneration = factor.generation;
+  contactlaw::Slots &law = k.law;
+  factor.rReference.assign(nc, 0.);
+  for (int j = 0; j < nc; j++) {
+    const int q = law.pair[j];
+    factor.rReference[j] = q >= 0 ? 2. / (factor.Dw[j + (size_t)j * nc] + factor.Dw[q + (size_t)q * nc]) : 1. / factor.Dw[j + (size_t)j * nc];
+  }
+  for (int j = 0; j < nc; j++)
+    law.setAugmentation(j, law.pair[j] >= 0 ? k.settings.r * factor.rReference[j] : k.settings.r / factor.Dw[j + (size_t)j * nc]);
+}
+}  // namespace
+
+void externalDelassus(Kernel &k, std::vector<double> &&Dw) {
+  if (!k.factor.externalFree || Dw.size() != (size_t)k.factor.nc * k.factor.nc)
+    kernelError("contactkernel: the ranks' Delassus matrix without their factor, or of the wrong size");
+  k.factor.Dw = std::move(Dw);
+  settleDelassus(k);
+}
+
 void computeDelassus(Kernel &k) {
   requireFactor(k, "contactKernelDelassus");
+  if (!k.factor.L) kernelError("contactKernelDelassus: the ranks compute the Delassus matrix (-ranks)");
   Factorization &factor = k.factor;
   const int nt = factor.nt, nc = factor.nc;
   // G = L_CC^-1 Ct (nt x nc), Ct = (P C')_C
@@ -295,39 +323,32 @@ void computeDelassus(Kernel &k) {
   for (int j = 0; j < nc; j++) for (int i = j + 1; i < nc; i++) D[i + (size_t)j * nc] = D[j + (size_t)i * nc];
   factor.Dw.assign((size_t)nc * nc, 0.);
   for (int j = 0; j < nc; j++) for (int i = 0; i < nc; i++) factor.Dw[i + (size_t)j * nc] = D[i + (size_t)j * nc] * k.nodes.slotWeight[j];
-  factor.delassusGeneration = factor.generation;
-  // r_j = r / Dw_jj: the stress a unit velocity of slot j produces through the body, so that
-  // the default r = 1 fits any scene
-  // (a 3D node's tangential pair shares one: 1 over the mean of its two Dw_jj)
-  contactlaw::Slots &law = k.law;
-  factor.rReference.assign(nc, 0.);
-  for (int j = 0; j < nc; j++) {
-    const int q = law.pair[j];
-    factor.rReference[j] = q >= 0 ? 2. / (factor.Dw[j + (size_t)j * nc] + factor.Dw[q + (size_t)q * nc]) : 1. / factor.Dw[j + (size_t)j * nc];
-  }
-  for (int j = 0; j < nc; j++)
-    law.setAugmentation(j, law.pair[j] >= 0 ? k.settings.r * factor.rReference[j] : k.settings.r / factor.Dw[j + (size_t)j * nc]);
+  settleDelassus(k);
 }
 
 void solveWithFactor(Kernel &k, const double *b, double *x) {
   requireFactor(k, "contactKernelSolve");
+  if (!k.factor.L) kernelError("contactKernelSolve: S is factorized across the ranks (-ranks)");
   k.factor.apply(CHOLMOD_A, b, x);
 }
 
 void freeVelocity(Kernel &k, const double *b, double *c) {
   requireFactor(k, "contactKernelFree");
   Factorization &factor = k.factor;
-  // z = L^-1 P b (the permutation applied here, the triangular solve by CHOLMOD)
-  const int *P = static_cast<int *>(factor.L->Perm);
-  double *work = static_cast<double *>(factor.work->x);
-  for (int q = 0; q < factor.n; q++) work[q] = b[P[q]];
-  cholmod_solve2(CHOLMOD_L, factor.L, factor.work, nullptr, &factor.x, nullptr, &factor.y, &factor.e, &factor.common);
-  std::copy(static_cast<double *>(factor.x->x), static_cast<double *>(factor.x->x) + factor.n, factor.z.begin());
+  if (factor.externalFree) factor.externalFree(b, c);   // -ranksolver direct: the ranks' solve
+  else {
+    // z = L^-1 P b (the permutation applied here, the triangular solve by CHOLMOD)
+    const int *P = static_cast<int *>(factor.L->Perm);
+    double *work = static_cast<double *>(factor.work->x);
+    for (int q = 0; q < factor.n; q++) work[q] = b[P[q]];
+    cholmod_solve2(CHOLMOD_L, factor.L, factor.work, nullptr, &factor.x, nullptr, &factor.y, &factor.e, &factor.common);
+    std::copy(static_cast<double *>(factor.x->x), static_cast<double *>(factor.x->x) + factor.n, factor.z.begin());
+    std::vector<double> wt(factor.nt);
+    trailingVelocity(factor, factor.z.data() + (factor.n - factor.nt), wt.data());
+    std::fill(c, c + factor.nc, 0.);
+    for (size_t e = 0; e < factor.slotOf.size(); e++) c[factor.slotOf[e]] += factor.valOf[e] * wt[factor.posOf[e]];
+  }
   factor.haveForward = true;
-  std::vector<double> wt(factor.nt);
-  trailingVelocity(factor, factor.z.data() + (factor.n - factor.nt), wt.data());
-  std::fill(c, c + factor.nc, 0.);
-  for (size_t e = 0; e < factor.slotOf.size(); e++) c[factor.slotOf[e]] += factor.valOf[e] * wt[factor.posOf[e]];
   // the size of the velocities a solver computes from them, c = cFree - Dw m: the law's
   // round-off guard weighs their round-off (Slots::evaluate)
   if ((int)k.law.velocityScale.size() == factor.nc) for (int j = 0; j < factor.nc; j++) k.law.velocityScale[j] = std::fabs(c[j]);
@@ -337,6 +358,7 @@ void finishVelocity(Kernel &k, const double *m, double *v) {
   requireFactor(k, "contactKernelFinish");
   Factorization &factor = k.factor;
   if (!factor.haveForward) kernelError("contactKernelFinish: call contactKernelFree first");
+  if (factor.externalFinish) { factor.externalFinish(m, v); return; }   // -ranksolver direct: the ranks' solve
   const int nt = factor.nt, inc = 1;
   // the contact load changes the trailing block of z only: z_C -= L_CC^-1 (P C' W m)_C
   std::vector<double> load(nt, 0.);

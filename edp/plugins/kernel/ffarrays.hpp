@@ -34,6 +34,11 @@ inline std::vector<double> copyOf(const KN<double> &a) {
   for (int i = 0; i < a.N(); i++) out[i] = a[i];
   return out;
 }
+// n values into a, resized to n
+inline void copyInto(KN<double> &a, const double *values, int n) {
+  if (a.N() != n) a.resize(n);
+  for (int i = 0; i < n; i++) a[i] = values[i];
+}
 
 }  // namespace contactkernel
 #endif

@@ -42,6 +42,7 @@ void requireSlots(const Kernel &k, const char *who);              // a factor, o
 void externalFactor(Kernel &k, int n, const SparseTriplets &C);    // the steps solved elsewhere (-ranks)
 void requireDelassus(const Kernel &k, const char *who);
 void computeDelassus(Kernel &k);                                   // factor.Dw; r_j = r / Dw_jj
+void externalDelassus(Kernel &k, std::vector<double> &&Dw);         // the ranks' Dw (nc x nc); r_j = r / Dw_jj
 void solveWithFactor(Kernel &k, const double *b, double *x);       // x = S^-1 b
 void freeVelocity(Kernel &k, const double *b, double *cFree);      // cFree = C S^-1 b (forward half)
 void finishVelocity(Kernel &k, const double *m, double *v);        // v = S^-1 (b - C'W m) (backward half)

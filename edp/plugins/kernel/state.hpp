@@ -99,6 +99,11 @@ struct Factorization {
   std::vector<double> rReference;       // 1/(Dw)_jj: the augmentation the convergence test reads
   bool haveForward = false;
   bool external = false;                // no factor: the steps are solved by the ranks (externalFactor)
+  // -ranksolver direct (edp/plugins/ranks/condensed.cpp): S factorized once by MUMPS across the
+  // ranks, which make the two halves of a back-substitution and Dw (externalDelassus); the
+  // Newton of a step is this kernel's, on rank 0
+  std::function<void(const double *b, double *cFree)> externalFree;   // cFree = C S^-1 b
+  std::function<void(const double *m, double *v)> externalFinish;      // v = S^-1 (b - C'W m)
   long generation = 0;                  // counts the factorizations
   long delassusGeneration = -1;         // the factor Dw belongs to
 

@@ -47,8 +47,9 @@
 //       calls contactRanksPeaks at the end of its time loop
 //   contactRanksFailure(0)  why the last step's linear solve failed, "" if it did not
 //   contactRanksPeaks(real[int] peaks)  rank 0 gets every rank's peak memory (MB)
-//   contactRanksCounters(real[int] counts)  Newton iterations, linear solves (each builds its
-//       preconditioner: a MUMPS factorization or a BoomerAMG hierarchy), linear iterations
+//   contactRanksCounters(real[int] counts)  Newton iterations (of the ranks' Newton), linear
+//       solves, linear iterations, preconditioner builds (direct: MUMPS's factorizations, one a
+//       run; iterative: a BoomerAMG hierarchy a linear solve)
 //   contactRanksFinish()  waits for every rank, then ends PETSc
 #include "ranks.hpp"
 
@@ -125,7 +126,7 @@ std::string builtSolver() {
     MatSolverType package = nullptr;
     CHECK(PCFactorGetMatSolverType(pc, &package));
     with = (package && std::string(package) == MATSOLVERMUMPS ? std::string("MUMPS") : std::string(package ? package : "PETSc")) + (p == PCLU ? " LU" : " Cholesky")
-           + (state.baseFactor ? " of R'SR, once per run" : "");
+           + (state.direct ? " of S, once per run; the kernel's Newton on the Delassus matrix" : "");
   } else if (p == PCHYPRE) {
     const char *kind = nullptr;
     CHECK(PCHYPREGetType(pc, &kind));
@@ -274,10 +275,6 @@ long contact(Matrice_Creuse<double> *const &pC, string *const &path, const doubl
   const int dim = state.dim, nc = k.law.n;
   state.nc = nc;
   state.direct = *path == "direct";
-  // (-ranks_base_factor in PETSC_OPTIONS: the direct path's LU is R'SR's, made once per run; a
-  // measurement, docs/performance.md, "Across ranks")
-  state.baseFactor = PETSC_FALSE;
-  if (state.direct) PetscOptionsGetBool(nullptr, "ranks_", "-base_factor", &state.baseFactor, nullptr);
   state.tol = tol;
   state.maxit = (int)maxit;
   // C by slots: (dof, value) pairs
@@ -344,9 +341,16 @@ long contact(Matrice_Creuse<double> *const &pC, string *const &path, const doubl
   CHECK(MatAssemblyEnd(state.R, MAT_FINAL_ASSEMBLY));
   CHECK(MatPtAP(state.S, state.R, MAT_INITIAL_MATRIX, 1.5, &state.Srot));
   CHECK(MatDestroy(&state.S));                                // (R'SR only from here on)
-  CHECK(MatDuplicate(state.Srot, MAT_COPY_VALUES, &state.J));
-  CHECK(MatSetOption(state.J, MAT_NEW_NONZERO_ALLOCATION_ERR, PETSC_TRUE));
-  CHECK(MatSetOption(state.J, MAT_KEEP_NONZERO_PATTERN, PETSC_TRUE));
+  if (state.direct) {
+    // F: R'SR with the fixed rows and columns the identity's, factorized once (condensed.cpp)
+    std::vector<PetscInt> rows = state.fixedRows;
+    std::sort(rows.begin(), rows.end());
+    CHECK(MatZeroRowsColumns(state.Srot, (PetscInt)rows.size(), rows.data(), 1., nullptr, nullptr));
+  } else {                                                    // the Newton matrix of the whole system (step.cpp)
+    CHECK(MatDuplicate(state.Srot, MAT_COPY_VALUES, &state.J));
+    CHECK(MatSetOption(state.J, MAT_NEW_NONZERO_ALLOCATION_ERR, PETSC_TRUE));
+    CHECK(MatSetOption(state.J, MAT_KEEP_NONZERO_PATTERN, PETSC_TRUE));
+  }
   // the law on the owned slots: the kernel's data of each (contactlaw.hpp's Slots)
   const int ns = (int)ownedSlots.size();
   std::vector<int> localOf(nc, -1);
@@ -393,29 +397,31 @@ long contact(Matrice_Creuse<double> *const &pC, string *const &path, const doubl
               MPI_COMM_WORLD);
   // vectors, the linear solver (options prefix ranks_)
   CHECK(MatCreateVecs(state.Srot, &state.w, &state.b));
-  for (Vec *v : {&state.brot, &state.bJ, &state.Sw, &state.x0, &state.vOwned}) CHECK(VecDuplicate(state.b, v));
+  for (Vec *v : {&state.brot, &state.bJ, &state.Sw, &state.x0, &state.vOwned, &state.y}) CHECK(VecDuplicate(state.b, v));
   CHECK(KSPCreate(PETSC_COMM_WORLD, &state.ksp));
   CHECK(KSPSetOptionsPrefix(state.ksp, "ranks_"));
   PC pc;
   CHECK(KSPGetPC(state.ksp, &pc));
-  // Both paths: GMRES(100) on the Newton matrix J, right-preconditioned (its test reads the
-  // true residual, |bJ - J w| <= 1e-14 |bJ|: the multipliers come from the momentum rows,
-  // m = (R'b - R'SR w)/W, and a looser solve leaves the contact residual above -tol), from
-  // zero (the last iterate's w, far larger than b where a body stops, failed PETSc's divergence
-  // test on the column scenes), at most 2000 iterations; preconditioned by MUMPS's LU of J (direct: one
-  // iteration) or by BoomerAMG on J (iterative), built again at every Newton iteration. (Keeping the
-  // factor or the hierarchy of an earlier J, rebuilt when GMRES needs 10 iterations more than
-  // just after a build, halved the factorizations on the paper scene but cost 1.2 to 1.7 times
-  // the time at 48x24x24 in 3D, where a quarter of the contact rows change at every iteration:
-  // docs/performance.md, "Across ranks".)
+  // Both paths: GMRES(100), right-preconditioned (its test reads the true residual,
+  // |b - A x| <= 1e-14 |b|), from zero, at most 2000 iterations. Direct: on F, preconditioned by
+  // MUMPS's Cholesky of F, made here once per run (one iteration: the back-substitutions of
+  // condensed.cpp, refined). Iterative: on the Newton matrix J of the whole system (the
+  // multipliers come from its momentum rows, m = (R'b - R'SR w)/W, and a looser solve leaves
+  // the contact residual above -tol; from zero: the last iterate's w, far larger than b where a
+  // body stops, failed PETSc's divergence test on the column scenes), preconditioned by
+  // BoomerAMG on J, built again at every Newton iteration. (Keeping the hierarchy of an
+  // earlier J, rebuilt when GMRES needs 10 iterations more than just after a build, cost 1.7
+  // times the time at 48x24x24 in 3D, where a quarter of the contact rows change at every
+  // iteration: docs/performance.md, "Across ranks".)
   CHECK(KSPSetType(state.ksp, KSPGMRES));
   CHECK(KSPGMRESSetRestart(state.ksp, 100));
   CHECK(KSPSetPCSide(state.ksp, PC_RIGHT));
   CHECK(KSPSetNormType(state.ksp, KSP_NORM_UNPRECONDITIONED));
   CHECK(KSPSetTolerances(state.ksp, 1e-14, 0., 1e300, 2000));
   if (state.direct) {
-    CHECK(PCSetType(pc, PCLU));
+    CHECK(PCSetType(pc, PCCHOLESKY));
     CHECK(PCFactorSetMatSolverType(pc, MATSOLVERMUMPS));
+    CHECK(KSPSetOperators(state.ksp, state.Srot, state.Srot));
   } else {
     // BoomerAMG (hypre): with GAMG at its defaults (Chebyshev smoothing) the linear solve of the
     // slab's first step failed at 212k unknowns and broke down at 700k (GMRES breakdown), where
@@ -449,6 +455,10 @@ long contact(Matrice_Creuse<double> *const &pC, string *const &path, const doubl
     CHECK(MatSetNearNullSpace(state.J, state.nearNull));
   }
   CHECK(KSPSetFromOptions(state.ksp));
+  if (state.direct) {                                         // the factorization, once per run
+    CHECK(KSPSetUp(state.ksp));
+    countFactorizations();
+  }
   return 0;
 }
 
@@ -467,8 +477,9 @@ long peaks(KN<double> *const &pout) {
 }
 long counters(KN<double> *const &pout) {
   KN<double> &out = *pout;
-  out.resize(3);
+  out.resize(4);
   out[0] = state.newtonIterations; out[1] = state.linearSolves; out[2] = state.linearIterations;
+  out[3] = state.direct ? state.factorizations : state.linearSolves;   // (iterative: a BoomerAMG hierarchy a solve)
   return 0;
 }
 long finish() {
@@ -478,7 +489,7 @@ long finish() {
     if (state.nearNull) MatNullSpaceDestroy(&state.nearNull);
     for (Mat *A : {&state.S, &state.R, &state.Srot, &state.J, &state.products[0], &state.products[1], &state.products[2]}) if (*A) MatDestroy(A);
     for (Vec *v : {&state.b, &state.brot, &state.w, &state.bJ, &state.Sw, &state.x0, &state.vOwned, &state.x, &state.px[0], &state.px[1],
-                   &state.px[2]}) if (*v) VecDestroy(v);
+                   &state.px[2], &state.y}) if (*v) VecDestroy(v);
     PetscFinalize();
     state.started = false;
   }
@@ -506,6 +517,7 @@ static void Load_Init() {
   Global.Add("contactRanksPeaks", "(", new OneOperator1_<long, Array>(peaks));
   Global.Add("contactRanksCounters", "(", new OneOperator1_<long, Array>(counters));
   Global.Add("contactRanksFinish", "(", new OneOperator0<long>(finish));
+  Global.Add("contactRanksDelassus", "(", new OneOperator1_<long, long>(delassus));
 }
 
 LOADFUNC(Load_Init)

@@ -7,6 +7,7 @@
 #include "AFunction_ext.hpp"
 #include <mpi.h>
 #include <petscksp.h>
+#include <petsc/private/petscimpl.h>   // PetscObjectStateGet (the factor's state: its factorizations)
 #include <sys/resource.h>
 #include <csignal>
 #include <unistd.h>
@@ -22,6 +23,7 @@ namespace ranks {
 using contactkernel::Kernel;
 using contactkernel::currentKernel;
 using contactkernel::copyOf;
+using contactkernel::copyInto;
 
 // a contact node of this rank: its rows (component k of the rotated node at row[k]; the first
 // `slots` are its slots, in the order of local[]), dim rows in all
@@ -54,12 +56,14 @@ struct RankState {
   std::vector<RankNode> nodes;
   std::vector<int> slotCounts, slotDispls, allSlots;   // rank 0
   int nc = 0;                             // all slots
-  bool direct = true, verbose = false;
-  PetscBool baseFactor = PETSC_FALSE;     // -ranks_base_factor: the direct path's LU of R'SR, once
+  bool direct = true, verbose = false;   // direct: S factorized once, the kernel's Newton (condensed.cpp)
+  Vec y = nullptr;                        // direct: F^-1 R'b of the step (its free velocities)
 
   double tol = 1e-10;
   int maxit = 50;
   long newtonIterations = 0, linearSolves = 0, linearIterations = 0;
+  long factorizations = 0;                // direct: MUMPS's numeric factorizations (the factor's state changes)
+  PetscObjectState factorState = -1;
   std::string failure;                    // why the last step's linear solve failed ("" if it did not)
 };
 extern RankState state;
@@ -73,7 +77,7 @@ void check(PetscErrorCode status, const char *what);
 // ---------------------------------------------------------------- what rank 0 asks of the others
 // Rank 0 runs the script's time loop; the other ranks serve it (contactRanksServe): each
 // collective it starts is announced by a command, broadcast from rank 0.
-enum Command { CommandStep = 1, CommandProducts = 2, CommandEnd = 3 };
+enum Command { CommandStep = 1, CommandProducts = 2, CommandEnd = 3, CommandFree = 4, CommandFinish = 5 };
 inline void announce(int command) { if (state.rank == 0) MPI_Bcast(&command, 1, MPI_INT, 0, MPI_COMM_WORLD); }
 inline int nextCommand() {
   int command = 0;
@@ -84,10 +88,20 @@ inline int nextCommand() {
 // ranks.cpp
 std::string builtSolver();                          // the Krylov method and preconditioner as built
 // step.cpp
+bool solveChecked(Mat A, Vec b, Vec x, const char *what);   // KSPSolve, its true residual checked
+void countFactorizations();
+void gatherRows(const PetscScalar *owned, double *out);
+void scatterRows(const double *in, Vec v);
+void gatherSlots(const std::vector<double> &owned, double *out);
 void multiplyProducts(const double *x, double *mx, double *ax, double *bx);
 long step(KN<double> *const &prhs, KN<double> *const &pv, KN<double> *const &pc, KN<double> *const &pm, KN<double> *const &pinfo);
 long serve(KN<double> *const &prhs, KN<double> *const &pv, KN<double> *const &pc, KN<double> *const &pm, KN<double> *const &pinfo);
 string *failure(Stack stack, const long &);
+// condensed.cpp (-ranksolver direct)
+void freeAll(const double *b, double *cFree);
+void finishAll(const double *m, double *v);
+long delassus(const long &);
+long condensedStep(KN<double> *const &prhs, KN<double> *const &pv, KN<double> *const &pc, KN<double> *const &pm, KN<double> *const &pinfo);
 
 }  // namespace ranks
 #endif

@@ -20,6 +20,55 @@ Reduced evaluateAll(std::vector<double> &c, std::vector<double> &m) {
   return {residual, sums[0], (long)sums[1]};
 }
 
+// direct: counts the numeric factorizations of MUMPS's factor (each changes its state; a solve
+// does not): summary.txt's ranks_preconditioner_builds, 1 a run
+void countFactorizations() {
+  PC pc;
+  Mat factor = nullptr;
+  PetscObjectState now;
+  CHECK(KSPGetPC(state.ksp, &pc));
+  CHECK(PCFactorGetMatrix(pc, &factor));
+  CHECK(PetscObjectStateGet((PetscObject)factor, &now));
+  if (now != state.factorState) { state.factorizations++; state.factorState = now; }
+}
+
+// A x = b by the rank's KSP (A its operator and preconditioner's), then its true residual
+// |b - A x| computed here (PETSc's own norm is 0 under -ranks_ksp_type preonly or
+// -ranks_ksp_norm_type none): false if either failed, state.failure then saying why (what: the
+// solve's name), or "" for a non-finite residual (exit 5, as for one process)
+bool solveChecked(Mat A, Vec b, Vec x, const char *what) {
+  CHECK(KSPSetOperators(state.ksp, A, A));
+  CHECK(KSPSolve(state.ksp, b, x));
+  if (state.direct) countFactorizations();
+  KSPConvergedReason reason;
+  PetscInt its;
+  CHECK(KSPGetConvergedReason(state.ksp, &reason));
+  CHECK(KSPGetIterationNumber(state.ksp, &its));
+  state.linearSolves++;
+  state.linearIterations += its;
+  if (reason == KSP_DIVERGED_NANORINF) return false;   // a non-finite residual: exit 5, as for one process
+  PetscReal norm = 0, bnorm = 0;
+  CHECK(MatMult(A, x, state.Sw));
+  CHECK(VecAYPX(state.Sw, -1., b));
+  CHECK(VecNorm(state.Sw, NORM_2, &norm));
+  CHECK(VecNorm(b, NORM_2, &bnorm));
+  if (!std::isfinite(norm)) return false;              // a non-finite solution: exit 5
+  // whatever PETSc's options say (PETSC_OPTIONS), a solve whose true residual is above 1e-8 |b|
+  // is not a solution: the step fails rather than writing results of it
+  if (reason >= 0 && !(norm <= 1e-8 * bnorm)) reason = KSP_DIVERGED_DTOL;
+  if (reason < 0) {
+    char text[400];
+    std::snprintf(text, sizeof text, "%s (-ranksolver %s: %s) stopped after %d iterations, relative residual %.3g (PETSc's reason %s)",
+                  what, state.direct ? "direct" : "iterative", builtSolver().c_str(), (int)its, bnorm > 0 ? (double)(norm / bnorm) : (double)norm,
+                  norm > 1e-8 * bnorm && reason == KSP_DIVERGED_DTOL ? "DIVERGED_DTOL, or a residual above 1e-8 after its own test" : KSPConvergedReasons[reason]);
+    state.failure = text;
+    const char *options = std::getenv("PETSC_OPTIONS");
+    if (options && *options) state.failure += std::string(", under PETSC_OPTIONS=\"") + options + "\"";
+    return false;
+  }
+  return true;
+}
+
 // the Newton system of the pieces at the last evaluation, solved: w, then c and m of the slots
 bool newtonSolve(std::vector<double> &c, std::vector<double> &m) {
   contactlaw::Slots &law = state.law;
@@ -104,38 +153,7 @@ bool newtonSolve(std::vector<double> &c, std::vector<double> &m) {
   for (Vec v : {state.x0, state.bJ}) { CHECK(VecAssemblyBegin(v)); CHECK(VecAssemblyEnd(v)); }
   std::sort(rows.begin(), rows.end());
   CHECK(MatZeroRowsColumns(state.J, (PetscInt)rows.size(), rows.data(), 1., state.x0, state.bJ));
-  // (-ranks_base_factor: preconditioned by R'SR, which never changes: factorized once)
-  CHECK(KSPSetOperators(state.ksp, state.J, state.baseFactor ? state.Srot : state.J));
-  CHECK(KSPSolve(state.ksp, state.bJ, state.w));
-  KSPConvergedReason reason;
-  PetscInt its;
-  CHECK(KSPGetConvergedReason(state.ksp, &reason));
-  CHECK(KSPGetIterationNumber(state.ksp, &its));
-  state.linearSolves++;
-  state.linearIterations += its;
-  if (reason == KSP_DIVERGED_NANORINF) return false;   // a non-finite residual: exit 5, as for one process
-  // the true residual |bJ - J w|, computed here (PETSc's own norm is 0 under -ranks_ksp_type
-  // preonly or -ranks_ksp_norm_type none)
-  PetscReal norm = 0, bnorm = 0;
-  CHECK(MatMult(state.J, state.w, state.Sw));
-  CHECK(VecAYPX(state.Sw, -1., state.bJ));
-  CHECK(VecNorm(state.Sw, NORM_2, &norm));
-  CHECK(VecNorm(state.bJ, NORM_2, &bnorm));
-  if (!std::isfinite(norm)) return false;              // a non-finite solution: exit 5
-  // whatever PETSc's options say (PETSC_OPTIONS), a solve whose true residual is above 1e-8 |b|
-  // is not a solution: the step fails rather than writing results of it
-  if (reason >= 0 && !(norm <= 1e-8 * bnorm)) reason = KSP_DIVERGED_DTOL;
-  if (reason < 0) {
-    char text[400];
-    std::snprintf(text, sizeof text, "the linear solve of a Newton iteration (-ranksolver %s: %s) stopped after %d iterations, "
-                  "relative residual %.3g (PETSc's reason %s)", state.direct ? "direct" : "iterative", builtSolver().c_str(),
-                  (int)its, bnorm > 0 ? (double)(norm / bnorm) : (double)norm,
-                  norm > 1e-8 * bnorm && reason == KSP_DIVERGED_DTOL ? "DIVERGED_DTOL, or a residual above 1e-8 after its own test" : KSPConvergedReasons[reason]);
-    state.failure = text;
-    const char *options = std::getenv("PETSC_OPTIONS");
-    if (options && *options) state.failure += std::string(", under PETSC_OPTIONS=\"") + options + "\"";
-    return false;
-  }
+  if (!solveChecked(state.J, state.bJ, state.w, "the linear solve of a Newton iteration")) return false;
   // c on the slots, m from the momentum rows: m = (R'b - R'SR w) / W
   CHECK(MatMult(state.Srot, state.w, state.Sw));
   const PetscScalar *wv, *bv, *sv;
@@ -189,18 +207,21 @@ void multiplyProducts(const double *x, double *mx, double *ax, double *bx) {
     CHECK(VecRestoreArrayRead(state.px[q], &p));
   }
 }
-void gatherSlots(const std::vector<double> &owned, KN<double> &out) {
+// gathers the owned slots' values into rank 0's array in the kernel's numbering of the slots
+void gatherSlots(const std::vector<double> &owned, double *out) {
   std::vector<double> all(state.rank == 0 ? state.nc : 0);
   MPI_Gatherv(owned.data(), (int)owned.size(), MPI_DOUBLE, all.data(), state.slotCounts.data(), state.slotDispls.data(), MPI_DOUBLE, 0,
               MPI_COMM_WORLD);
-  if (state.rank == 0) {
-    if (out.N() != state.nc) out.resize(state.nc);
-    for (int j = 0; j < state.nc; j++) out[state.allSlots[j]] = all[j];
-  }
+  if (state.rank == 0) for (int j = 0; j < state.nc; j++) out[state.allSlots[j]] = all[j];
+}
+void gatherSlots(const std::vector<double> &owned, KN<double> &out) {
+  if (state.rank == 0 && out.N() != state.nc) out.resize(state.nc);
+  gatherSlots(owned, state.rank == 0 ? &out[0] : nullptr);
 }
 
 long step(KN<double> *const &prhs, KN<double> *const &pv, KN<double> *const &pc, KN<double> *const &pm, KN<double> *const &pinfo) {
   if (!state.ksp) ExecError("contactRanksStep: call contactRanksContact first");
+  if (state.direct) return state.rank == 0 ? condensedStep(prhs, pv, pc, pm, pinfo) : 0;   // condensed.cpp
   state.verbose = currentKernel().settings.verbose;    // (-verbose: the iterations on the standard error)
   state.failure = "";
   announce(CommandStep);
@@ -303,6 +324,8 @@ long serve(KN<double> *const &prhs, KN<double> *const &pv, KN<double> *const &pc
     if (command == CommandEnd) return 0;
     if (command == CommandStep) step(prhs, pv, pc, pm, pinfo);
     else if (command == CommandProducts) multiplyProducts(nullptr, nullptr, nullptr, nullptr);
+    else if (command == CommandFree) freeAll(nullptr, nullptr);
+    else if (command == CommandFinish) finishAll(nullptr, nullptr);
     else rankFail(3, "contactRanksServe: an unknown command from rank 0");
   }
 }

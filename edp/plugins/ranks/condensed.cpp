@@ -1,0 +1,197 @@
+// condensed.cpp: the direct path of the run on ranks (-ranksolver direct), as the one-process
+// kernel solves a step: S factorized once per run, the contact problem condensed on the
+// Delassus matrix Dw = C S^-1 C'W, and the kernel's own semismooth Newton on it (newton.cpp,
+// the same code as one process, on rank 0). The ranks hold the factor: MUMPS's Cholesky of
+//   F = R'SR, the Dirichlet rows and columns of the fixed components set to the identity's
+// (R the node rotation, ranks.cpp: in the nodes' frames a slot's velocity is one row of w, so
+// C = E R' with E the slots' rows, and C S^-1 C' = E F^-1 E'). They make
+//   - Dw once per run (contactRanksDelassus): F^-1 applied to the slots' unit vectors, by blocks
+//     of columns (MUMPS's MatMatSolve), the slots' rows of the result gathered on rank 0;
+//   - the two halves of a step's back-substitution, which rank 0's kernel asks for through
+//     factor.externalFree and factor.externalFinish: cFree = E F^-1 R'b, then
+//     v = R F^-1 (R'b - E'W m).
+// Rank 0 holds Dw and the Newton's dense matrices (contact-size, nc x nc, as one process); no
+// rank holds S or its factor whole.
+#include "ranks.hpp"
+
+namespace ranks {
+
+namespace {
+// R'b with the fixed rows zeroed (S's Dirichlet rows hold v = 0 there), in state.brot
+void rotatedLoad() {
+  CHECK(MatMultTranspose(state.R, state.b, state.brot));
+  PetscScalar *bv;
+  CHECK(VecGetArray(state.brot, &bv));
+  for (PetscInt row : state.fixedRows) bv[row - state.first] = 0.;
+  CHECK(VecRestoreArray(state.brot, &bv));
+}
+// F x = b or the run stops (every rank: the check is collective): an exact factor's solve that
+// fails has met a non-finite value
+void solveOrFail(Vec b, Vec x, const char *what) {
+  if (!solveChecked(state.Srot, b, x, what)) {
+    if (state.failure.empty()) rankFail(5, std::string(what) + ": a non-finite value (check the loads and the material data)");
+    rankFail(5, state.failure);
+  }
+}
+}  // namespace
+
+// cFree = E F^-1 R'b (collective; rank 0 announces it: its kernel's freeVelocity calls it)
+void freeAll(const double *b, double *cFree) {
+  announce(CommandFree);
+  scatterRows(b, state.b);
+  rotatedLoad();
+  solveOrFail(state.brot, state.y, "the back-substitution of a step (its free velocities)");
+  const PetscScalar *yv;
+  CHECK(VecGetArrayRead(state.y, &yv));
+  std::vector<double> c(state.law.n);
+  for (int l = 0; l < state.law.n; l++) c[l] = yv[state.slotRow[l] - state.first];
+  CHECK(VecRestoreArrayRead(state.y, &yv));
+  gatherSlots(c, cFree);
+}
+
+// v = R F^-1 (R'b - E'W m), R'b the last freeAll's (collective; rank 0's kernel's finishVelocity)
+void finishAll(const double *m, double *v) {
+  announce(CommandFinish);
+  std::vector<double> mAll(state.nc);
+  if (state.rank == 0) std::copy(m, m + state.nc, mAll.begin());
+  MPI_Bcast(mAll.data(), state.nc, MPI_DOUBLE, 0, MPI_COMM_WORLD);
+  CHECK(VecCopy(state.brot, state.bJ));
+  PetscScalar *bv;
+  CHECK(VecGetArray(state.bJ, &bv));
+  for (int l = 0; l < state.law.n; l++) bv[state.slotRow[l] - state.first] -= state.W[l] * mAll[state.slotGlobal[l]];
+  CHECK(VecRestoreArray(state.bJ, &bv));
+  solveOrFail(state.bJ, state.w, "the back-substitution of a step");
+  CHECK(MatMult(state.R, state.w, state.vOwned));
+  const PetscScalar *vv;
+  CHECK(VecGetArrayRead(state.vOwned, &vv));
+  gatherRows(vv, v);
+  CHECK(VecRestoreArrayRead(state.vOwned, &vv));
+}
+
+// A step on rank 0 (contactRanksStep with -ranksolver direct): the kernel's Newton on Dw, as
+// one process, then refined. One process makes cFree, Dw and v from one factor by the same
+// sweeps, so that C v = cFree - Dw m to round-off; here they come from separate solves, each
+// with its own round-off, and where Dw has large entries (a body held by contact only: its
+// rigid motion) C v and the Newton's c = cFree - Dw m parted by up to 4e-7 of the velocities
+// (twisted3d at -load 30 on 2 ranks: stick nodes then read as slipping). So, after Newton:
+// v = S^-1 (b - C'W m), the mismatch d = C v - (cFree - Dw m), cFree += d (the model is now
+// exact at m), and Newton again from (c, m) while it moves m (its pieces are settled: zero to
+// two iterations), at most 5 times or until |d| <= 1e-13 of the velocities. The step's c is C v.
+long condensedStep(KN<double> *const &prhs, KN<double> *const &pv, KN<double> *const &pc, KN<double> *const &pm, KN<double> *const &pinfo) {
+  Kernel &k = currentKernel();
+  const int nc = state.nc;
+  if (prhs->N() != state.n || pc->N() != nc || pm->N() != nc) ExecError("contactRanksStep: wrong argument sizes");
+  std::vector<double> rhs = copyOf(*prhs), c = copyOf(*pc), m = copyOf(*pm), cFree(nc), model(nc), cv, v(state.n);
+  double info[contactkernel::solverInfoColumnCount];
+  contactkernel::freeVelocity(k, rhs.data(), cFree.data());
+  long it = contactkernel::newtonStep(k, cFree.data(), c.data(), m.data(), info);
+  double iterations = info[contactkernel::InfoIterations];   // (the refinement's too)
+  for (int pass = 0; it >= 0; pass++) {
+    contactkernel::finishVelocity(k, m.data(), v.data());
+    contactkernel::slotVelocities(k, v.data(), cv);
+    contactkernel::velocities(k, cFree.data(), m.data(), model.data());
+    double mismatch = 0, scale = 0;
+    for (int j = 0; j < nc; j++) {
+      const double d = cv[j] - model[j];
+      mismatch = std::max(mismatch, std::fabs(d));
+      scale = std::max(scale, std::fabs(cFree[j]) + std::fabs(cFree[j] - model[j]));
+      cFree[j] += d;
+    }
+    if (mismatch <= 1e-13 * scale || pass == 5) break;
+    const long more = contactkernel::newtonStep(k, cFree.data(), c.data(), m.data(), info);
+    it = more < 0 ? -1 : it + more;
+    iterations += info[contactkernel::InfoIterations];
+    if (more == 0) break;
+  }
+  if (it < 0) contactkernel::finishVelocity(k, m.data(), v.data());   // (no results: the script stops the run)
+  else c = cv;
+  copyInto(*pv, v.data(), state.n);
+  copyInto(*pc, c.data(), nc);
+  copyInto(*pm, m.data(), nc);
+  info[contactkernel::InfoIterations] = iterations;
+  copyInto(*pinfo, info, contactkernel::solverInfoColumnCount);
+  return it;
+}
+
+// contactRanksDelassus(0): Dw = E F^-1 E' W on rank 0's kernel, with the two halves above as its
+// back-substitution (collective; after contactKernelExternalFactor and the kernel's parameters:
+// r_j = r / Dw_jj reads -r). Nothing on the iterative path.
+long delassus(const long &) {
+  if (!state.direct) return 0;
+  PC pc;
+  PCType type;
+  CHECK(KSPGetPC(state.ksp, &pc));
+  CHECK(PCGetType(pc, &type));
+  if (!type || (std::string(type) != PCLU && std::string(type) != PCCHOLESKY))
+    rankFail(2, std::string("option -ranksolver direct: its preconditioner must be a factorization (LU or Cholesky), but PETSC_OPTIONS chose ")
+                + (type ? type : "none") + "; use -ranksolver iterative");
+  Mat factor;
+  CHECK(PCFactorGetMatrix(pc, &factor));
+  const int nc = state.nc, ns = state.law.n;
+  std::vector<int> localOf(nc, -1);
+  for (int l = 0; l < ns; l++) localOf[state.slotGlobal[l]] = l;
+  // blocks of columns: about 2^22 entries of the right-hand sides over all ranks (32 MB, and as
+  // much for the solutions), 16 to 512 columns. (2^25 took 0.9 times the time at 48x24x24 on 2
+  // ranks, and rank 0's peak went from 1.37 to 2.38 GB: MUMPS gathers the block on it.)
+  const int block = (int)std::max<PetscInt>(16, std::min<PetscInt>(512, ((PetscInt)1 << 22) / std::max<PetscInt>(state.n, 1)));
+  std::vector<double> Dw(state.rank == 0 ? (size_t)nc * nc : 0), mine, all;
+  std::vector<double> weight(state.rank == 0 ? nc : 0);
+  if (state.rank == 0) {
+    const Kernel &k = currentKernel();
+    for (int j = 0; j < nc; j++) weight[j] = k.nodes.slotWeight[j];
+  }
+  std::vector<int> counts(state.size), displs(state.size);
+  for (int j0 = 0; j0 < nc; j0 += block) {
+    const int columns = std::min(block, nc - j0);
+    Mat B, X;
+    CHECK(MatCreateDense(PETSC_COMM_WORLD, state.owned, PETSC_DECIDE, state.n, columns, nullptr, &B));
+    CHECK(MatCreateDense(PETSC_COMM_WORLD, state.owned, PETSC_DECIDE, state.n, columns, nullptr, &X));
+    PetscScalar *bv;
+    PetscInt lda;
+    CHECK(MatDenseGetLDA(B, &lda));
+    CHECK(MatDenseGetArray(B, &bv));
+    std::fill(bv, bv + (size_t)lda * columns, 0.);
+    for (int q = 0; q < columns; q++) {
+      const int l = localOf[j0 + q];
+      if (l >= 0) bv[(state.slotRow[l] - state.first) + (size_t)q * lda] = 1.;
+    }
+    CHECK(MatDenseRestoreArray(B, &bv));
+    CHECK(MatAssemblyBegin(B, MAT_FINAL_ASSEMBLY));
+    CHECK(MatAssemblyEnd(B, MAT_FINAL_ASSEMBLY));
+    CHECK(MatMatSolve(factor, B, X));
+    const PetscScalar *xv;
+    CHECK(MatDenseGetLDA(X, &lda));
+    CHECK(MatDenseGetArrayRead(X, &xv));
+    mine.assign((size_t)ns * columns, 0.);
+    for (int q = 0; q < columns; q++)
+      for (int l = 0; l < ns; l++) mine[l + (size_t)q * ns] = xv[(state.slotRow[l] - state.first) + (size_t)q * lda];
+    CHECK(MatDenseRestoreArrayRead(X, &xv));
+    CHECK(MatDestroy(&B));
+    CHECK(MatDestroy(&X));
+    for (int r = 0; r < state.size; r++) { counts[r] = state.slotCounts[r] * columns; displs[r] = state.slotDispls[r] * columns; }
+    all.assign(state.rank == 0 ? (size_t)nc * columns : 0, 0.);
+    MPI_Gatherv(mine.data(), ns * columns, MPI_DOUBLE, all.data(), counts.data(), displs.data(), MPI_DOUBLE, 0, MPI_COMM_WORLD);
+    if (state.rank == 0)
+      for (int r = 0; r < state.size; r++)
+        for (int q = 0; q < columns; q++)
+          for (int l = 0; l < state.slotCounts[r]; l++)
+            Dw[state.allSlots[state.slotDispls[r] + l] + (size_t)(j0 + q) * nc] = all[displs[r] + l + (size_t)q * state.slotCounts[r]];
+  }
+  if (state.rank == 0) {
+    // E F^-1 E' is symmetric; MUMPS's columns are, to round-off: made exactly so (the Newton reads
+    // Dw's rows from its columns, newton.cpp), then Dw = D W
+    for (int j = 0; j < nc; j++)
+      for (int i = j + 1; i < nc; i++) {
+        const double mean = 0.5 * (Dw[i + (size_t)j * nc] + Dw[j + (size_t)i * nc]);
+        Dw[i + (size_t)j * nc] = Dw[j + (size_t)i * nc] = mean;
+      }
+    for (int j = 0; j < nc; j++) for (int i = 0; i < nc; i++) Dw[i + (size_t)j * nc] *= weight[j];
+    Kernel &k = currentKernel();
+    k.factor.externalFree = freeAll;
+    k.factor.externalFinish = finishAll;
+    contactkernel::externalDelassus(k, std::move(Dw));
+  }
+  return 0;
+}
+
+}  // namespace ranks

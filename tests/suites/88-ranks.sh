@@ -66,6 +66,11 @@ expect_failure "-ranks: a rank without elements" 2 "option -ranks 2: the mesh's 
 export PETSC_OPTIONS="-ranks_ksp_rtol 1"
 expect_failure "-ranks: a linear solve above 1e-8 |b|" 4 "the linear solve of a Newton iteration .* relative residual [0-9.e+-]+ \(PETSc's reason DIVERGED_DTOL, or a residual above 1e-8 after its own test\)" -ranks 2 -ranksolver iterative -T 0.05
 unset PETSC_OPTIONS
+# The direct path needs its factor (the Delassus matrix's solves): another preconditioner
+# chosen by PETSC_OPTIONS is refused by name, exit 2, nothing written
+export PETSC_OPTIONS="-ranks_pc_type hypre"
+expect_failure "-ranks: the direct path without a factorization" 2 "option -ranksolver direct: its preconditioner must be a factorization \(LU or Cholesky\), but PETSC_OPTIONS chose hypre; use -ranksolver iterative" -ranks 2 -T 0.02
+unset PETSC_OPTIONS
 # An error of PETSc on a rank (an option it refuses): said with the rank, exit 3, nothing written
 export PETSC_OPTIONS="-ranks_pc_type nosuchpc"
 expect_failure "-ranks: PETSc refuses an option of PETSC_OPTIONS" 3 "error: rank 0 of 2: PETSc error [0-9]+ in KSPSetFromOptions" -ranks 2 -T 0.02

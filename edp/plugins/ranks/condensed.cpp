@@ -118,13 +118,8 @@ long condensedStep(KN<double> *const &prhs, KN<double> *const &pv, KN<double> *c
 // r_j = r / Dw_jj reads -r). Nothing on the iterative path.
 long delassus(const long &) {
   if (!state.direct) return 0;
-  PC pc;
-  PCType type;
+  PC pc;                                                      // (a factorization: contactRanksContact checked it)
   CHECK(KSPGetPC(state.ksp, &pc));
-  CHECK(PCGetType(pc, &type));
-  if (!type || (std::string(type) != PCLU && std::string(type) != PCCHOLESKY))
-    rankFail(2, std::string("option -ranksolver direct: its preconditioner must be a factorization (LU or Cholesky), but PETSC_OPTIONS chose ")
-                + (type ? type : "none") + "; use -ranksolver iterative");
   Mat factor;
   CHECK(PCFactorGetMatrix(pc, &factor));
   const int nc = state.nc, ns = state.law.n;

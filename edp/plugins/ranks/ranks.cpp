@@ -456,6 +456,13 @@ long contact(Matrice_Creuse<double> *const &pC, string *const &path, const doubl
   }
   CHECK(KSPSetFromOptions(state.ksp));
   if (state.direct) {                                         // the factorization, once per run
+    PCType type;
+    CHECK(PCGetType(pc, &type));
+    if (!type || (std::string(type) != PCLU && std::string(type) != PCCHOLESKY)) {
+      if (state.rank != 0) sleep(3);                          // (every rank finds it: rank 0 says it)
+      rankFail(2, std::string("option -ranksolver direct: its preconditioner must be a factorization (LU or Cholesky), but PETSC_OPTIONS chose ")
+                  + (type ? type : "none") + "; use -ranksolver iterative");
+    }
     CHECK(KSPSetUp(state.ksp));
     countFactorizations();
   }

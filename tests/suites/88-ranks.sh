@@ -66,6 +66,14 @@ expect_failure "-ranks: a rank without elements" 2 "option -ranks 2: the mesh's 
 export PETSC_OPTIONS="-ranks_ksp_rtol 1"
 expect_failure "-ranks: a linear solve above 1e-8 |b|" 4 "the linear solve of a Newton iteration .* relative residual [0-9.e+-]+ \(PETSc's reason DIVERGED_DTOL, or a residual above 1e-8 after its own test\)" -ranks 2 -ranksolver iterative -T 0.05
 unset PETSC_OPTIONS
+# The direct path: a back-substitution that fails ends its step as the iterative path's linear
+# solve does (exit 4, the step, PETSc's reason); a factorization that fails is said at set-up
+# with MUMPS's INFOG (exit 3); nothing written either way
+export PETSC_OPTIONS="-ranks_ksp_max_it 1"
+expect_failure "-ranks direct: a back-substitution that fails" 4 "step 1 \(t = [^)]*\): the back-substitution of a step \(its free velocities\) \(-ranksolver direct: GMRES with MUMPS Cholesky of S, once per run; the kernel's Newton on the Delassus matrix\) stopped after 1 iterations, relative residual [0-9.e+-]+ \(PETSc's reason DIVERGED_ITS\)" -ranks 2 -scene twisted3d -T 0.02
+export PETSC_OPTIONS="-ranks_mat_mumps_icntl_14 -90"
+expect_failure "-ranks direct: a factorization that fails" 3 "error: rank 0 of 2: the factorization of S \(-ranksolver direct: [^)]*\) failed \(PETSc's reason [A-Z_]+, MUMPS's INFOG\(1\) = -[0-9]+, INFOG\(2\) = [0-9-]+\)" -ranks 2 -T 0.02
+unset PETSC_OPTIONS
 # The direct path needs its factor (the Delassus matrix's solves): another preconditioner
 # chosen by PETSC_OPTIONS is refused by name, exit 2, nothing written
 export PETSC_OPTIONS="-ranks_pc_type hypre"

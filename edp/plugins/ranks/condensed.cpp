@@ -25,14 +25,11 @@ void rotatedLoad() {
   for (PetscInt row : state.fixedRows) bv[row - state.first] = 0.;
   CHECK(VecRestoreArray(state.brot, &bv));
 }
-// F x = b or the run stops (every rank: the check is collective): an exact factor's solve that
-// fails has met a non-finite value
-void solveOrFail(Vec b, Vec x, const char *what) {
-  if (!solveChecked(state.Srot, b, x, what)) {
-    if (state.failure.empty()) rankFail(5, std::string(what) + ": a non-finite value (check the loads and the material data)");
-    rankFail(5, state.failure);
-  }
-}
+// F x = b; false if the solve failed (every rank knows: the check is collective), state.failure
+// then saying why, or "" for a non-finite value. The kernel's Newton then meets NaN and the step
+// fails as one process's would: exit 4 with the step and state.failure (the script's stepFailed,
+// contactRanksFailure), or 5 for a non-finite value.
+bool solved(Vec b, Vec x, const char *what) { return solveChecked(state.Srot, b, x, what); }
 }  // namespace
 
 // cFree = E F^-1 R'b (collective; rank 0 announces it: its kernel's freeVelocity calls it)
@@ -40,11 +37,11 @@ void freeAll(const double *b, double *cFree) {
   announce(CommandFree);
   scatterRows(b, state.b);
   rotatedLoad();
-  solveOrFail(state.brot, state.y, "the back-substitution of a step (its free velocities)");
+  const bool ok = solved(state.brot, state.y, "the back-substitution of a step (its free velocities)");
   const PetscScalar *yv;
   CHECK(VecGetArrayRead(state.y, &yv));
   std::vector<double> c(state.law.n);
-  for (int l = 0; l < state.law.n; l++) c[l] = yv[state.slotRow[l] - state.first];
+  for (int l = 0; l < state.law.n; l++) c[l] = ok ? yv[state.slotRow[l] - state.first] : NAN;
   CHECK(VecRestoreArrayRead(state.y, &yv));
   gatherSlots(c, cFree);
 }
@@ -60,7 +57,7 @@ void finishAll(const double *m, double *v) {
   CHECK(VecGetArray(state.bJ, &bv));
   for (int l = 0; l < state.law.n; l++) bv[state.slotRow[l] - state.first] -= state.W[l] * mAll[state.slotGlobal[l]];
   CHECK(VecRestoreArray(state.bJ, &bv));
-  solveOrFail(state.bJ, state.w, "the back-substitution of a step");
+  if (!solved(state.bJ, state.w, "the back-substitution of a step")) CHECK(VecSet(state.w, NAN));
   CHECK(MatMult(state.R, state.w, state.vOwned));
   const PetscScalar *vv;
   CHECK(VecGetArrayRead(state.vOwned, &vv));
@@ -69,46 +66,59 @@ void finishAll(const double *m, double *v) {
 }
 
 // A step on rank 0 (contactRanksStep with -ranksolver direct): the kernel's Newton on Dw, as
-// one process, then refined. One process makes cFree, Dw and v from one factor by the same
-// sweeps, so that C v = cFree - Dw m to round-off; here they come from separate solves, each
-// with its own round-off, and where Dw has large entries (a body held by contact only: its
+// one process, then made consistent. One process makes cFree, Dw and v from one factor by the
+// same sweeps, so that C v = cFree - Dw m to round-off; here they come from separate solves,
+// each with its own round-off, and where Dw has large entries (a body held by contact only: its
 // rigid motion) C v and the Newton's c = cFree - Dw m parted by up to 4e-7 of the velocities
-// (twisted3d at -load 30 on 2 ranks: stick nodes then read as slipping). So, after Newton:
-// v = S^-1 (b - C'W m), the mismatch d = C v - (cFree - Dw m), cFree += d (the model is now
-// exact at m), and Newton again from (c, m) while it moves m (its pieces are settled: zero to
-// two iterations), at most 5 times or until |d| <= 1e-13 of the velocities. The step's c is C v.
+// (twisted3d at -load 30 on 2 ranks: stick nodes then read as slipping). So, after the Newton:
+// v = S^-1 (b - C'W m), the mismatch d = C v - (cFree - Dw m), cFree += d (the model is then
+// exact at m), and the step's test (-tol, the statuses) at (C v, m) on that model: if it passes,
+// the step is (v, C v, m); if not, the Newton again from (c, m) with the iterations -maxit has
+// left, then the same (at most 5 times; the step fails if the test still does not pass).
 long condensedStep(KN<double> *const &prhs, KN<double> *const &pv, KN<double> *const &pc, KN<double> *const &pm, KN<double> *const &pinfo) {
   Kernel &k = currentKernel();
-  const int nc = state.nc;
+  const int nc = state.nc, cap = k.settings.maxit;
   if (prhs->N() != state.n || pc->N() != nc || pm->N() != nc) ExecError("contactRanksStep: wrong argument sizes");
-  std::vector<double> rhs = copyOf(*prhs), c = copyOf(*pc), m = copyOf(*pm), cFree(nc), model(nc), cv, v(state.n);
-  double info[contactkernel::solverInfoColumnCount];
+  std::vector<double> rhs = copyOf(*prhs), c = copyOf(*pc), m = copyOf(*pm), cFree(nc), model(nc), cv, v(state.n, NAN);
+  double info[contactkernel::solverInfoColumnCount] = {NAN, 0, 0, 0};
+  state.failure = "";
   contactkernel::freeVelocity(k, rhs.data(), cFree.data());
-  long it = contactkernel::newtonStep(k, cFree.data(), c.data(), m.data(), info);
-  double iterations = info[contactkernel::InfoIterations];   // (the refinement's too)
-  for (int pass = 0; it >= 0; pass++) {
+  long it = state.failure.empty() ? contactkernel::newtonStep(k, cFree.data(), c.data(), m.data(), info) : -1;
+  double iterations = info[contactkernel::InfoIterations];
+  for (int pass = 0; it >= 0 && state.failure.empty(); pass++) {
     contactkernel::finishVelocity(k, m.data(), v.data());
+    if (!state.failure.empty()) { it = -1; break; }
     contactkernel::slotVelocities(k, v.data(), cv);
     contactkernel::velocities(k, cFree.data(), m.data(), model.data());
-    double mismatch = 0, scale = 0;
+    double mismatch = 0;
     for (int j = 0; j < nc; j++) {
-      const double d = cv[j] - model[j];
-      mismatch = std::max(mismatch, std::fabs(d));
-      scale = std::max(scale, std::fabs(cFree[j]) + std::fabs(cFree[j] - model[j]));
-      cFree[j] += d;
+      mismatch = std::max(mismatch, std::fabs(cv[j] - model[j]));
+      cFree[j] += cv[j] - model[j];
     }
-    if (mismatch <= 1e-13 * scale || pass == 5) break;
+    contactkernel::roundoffScale(k, cFree.data(), m.data());
+    double merit = 0;
+    int unresolved = 0;
+    const double residual = contactkernel::referenceEvaluate(k, cv.data(), m.data(), merit);
+    info[contactkernel::InfoResidual] = residual;
+    info[contactkernel::InfoUnresolved] = 0;
+    if (contactkernel::stepConverged(k, residual, cv.data(), unresolved)) { c = cv; break; }
+    info[contactkernel::InfoUnresolved] = unresolved;
+    if (pass == 4 || iterations >= cap) { it = -1; break; }   // (the step fails: its residual and statuses said)
+    if (k.settings.verbose)
+      std::fprintf(stderr, "  (C v differs from the Newton's velocities by %.3e after the ranks' solves: residual %.3e, %d unresolved "
+                   "at C v; Newton again)\n", mismatch, residual, unresolved);
+    state.refinements++;
+    k.settings.maxit = cap - (int)iterations;
     const long more = contactkernel::newtonStep(k, cFree.data(), c.data(), m.data(), info);
-    it = more < 0 ? -1 : it + more;
+    k.settings.maxit = cap;
     iterations += info[contactkernel::InfoIterations];
-    if (more == 0) break;
+    it = more < 0 ? -1 : it + more;
   }
-  if (it < 0) contactkernel::finishVelocity(k, m.data(), v.data());   // (no results: the script stops the run)
-  else c = cv;
+  if (!state.failure.empty() || std::isnan(info[contactkernel::InfoResidual])) it = -1;
+  info[contactkernel::InfoIterations] = iterations;
   copyInto(*pv, v.data(), state.n);
   copyInto(*pc, c.data(), nc);
   copyInto(*pm, m.data(), nc);
-  info[contactkernel::InfoIterations] = iterations;
   copyInto(*pinfo, info, contactkernel::solverInfoColumnCount);
   return it;
 }

@@ -2,30 +2,34 @@
 // Built by ./run.sh with mpicxx into edp/plugins/build/contactkernelmpi.so, together with the
 // kernel's files and the law, contactlaw.hpp: the ranks evaluate the same law, compiled in.
 // Loaded by edp/solve.edp under FreeFem++-mpi instead of contactkernel.so. This file: the
-// set-up, the run's figures and the FreeFEM functions; step.cpp: a step and the record's
-// products; ranks.hpp: what they share.
+// set-up, the run's figures and the FreeFEM functions; step.cpp: a step of the iterative path
+// and the record's products; condensed.cpp: the direct path; ranks.hpp: what they share.
 //
 // What each rank holds: the rows of S = M/k + A + kB + C'W Kn C of the vertices it owns
 // (PETSc's MPIAIJ; assembled from the elements of its part of the mesh, each rank passing
 // the triplets of its own elements), the same rows of M, A and B (the record's products, which
 // rank 0's kernel asks for through products.external), the rows of the node rotation R, and the
-// contact nodes of its vertices with their slots. No rank holds a matrix whole. A step is a semismooth Newton on the whole system, in the
-// nodes' frames (w = R'v: a contact node's rows become its slots' velocities):
+// contact nodes of its vertices with their slots. No rank holds S, M, A, B or a factor whole.
+// In the nodes' frames (w = R'v) a contact node's rows are its slots' velocities.
+// -ranksolver direct (condensed.cpp): F = R'SR (the fixed rows and columns the identity's)
+// factorized once per run by MUMPS (Cholesky), the Delassus matrix made from its solves and
+// the kernel's own Newton on it on rank 0, as one process. -ranksolver iterative (step.cpp): a
+// semismooth Newton on the whole system,
 //   R'SR w + W m = R'b on the slots' rows, and on each slot its piece's relation
 //   sum_t a_t c + sum_t d_t m = h (contactlaw.hpp, Slots::relations), c = w there.
 // A slot whose relation fixes its velocity (the bound, stick: d = 0) is a Dirichlet row of
 // the rotated system; the others' multipliers are eliminated node by node (m_F = D_FF^-1
 // (h_F - A_F c)), which adds a small block to the node's rows. Each Newton iteration solves
-// that system with the path of -ranksolver: direct (MUMPS LU, a factorization per iteration)
-// or iterative (GMRES preconditioned by hypre's BoomerAMG). The multipliers then
-// follow from the momentum rows, m = (R'b - R'SR w)/W, the law is evaluated on the rank's own
-// slots, and the residual is reduced over the ranks (its largest).
+// that system by GMRES preconditioned by hypre's BoomerAMG. The multipliers then follow from
+// the momentum rows, m = (R'b - R'SR w)/W, the law is evaluated on the rank's own slots, and
+// the residual is reduced over the ranks (its largest).
 //
 // FreeFEM functions (collective: every rank calls them, in the same order)
 //   contactRanksStart(string options)  PETSc started (MPI already is); options: PETSc's, e.g.
 //       "-ranks_ksp_view"; returns this rank
 //   contactRanksEngine(0)  the solver as built (after contactRanksContact): "PETSc 3.18.5, GMRES
-//       with MUMPS LU" (direct), "..., GMRES with BoomerAMG" (iterative), or what PETSC_OPTIONS chose
+//       with MUMPS Cholesky of S, once per run; the kernel's Newton on the Delassus matrix"
+//       (direct), "..., GMRES with BoomerAMG" (iterative), or what PETSC_OPTIONS chose
 //   contactRanksShareText(string text)  rank 0's text, on every rank
 //   contactRanksNumbering(int[int] rowOf, int owned)  rowOf: the PETSc row of every FreeFEM
 //       degree of freedom (the same array on every rank); owned: the rows of this rank
@@ -35,13 +39,15 @@
 //       every vertex, one after the other (the rigid-body modes, GAMG's near-null space)
 //   contactRanksContact(matrix C, string path, real tol, int maxit, real r)  the contact nodes of the rank's
 //       vertices, their frames and the law's data of their slots (from the kernel instance, which
-//       contactKernelNodes filled), the solver path (direct or iterative)
+//       contactKernelNodes filled), the solver path (direct or iterative); direct: S factorized
+//   contactRanksDelassus(0)  direct: the Delassus matrix on rank 0's kernel (after its parameters)
 //   contactRanksProducts(matrix M, matrix A, matrix B, int[int] l2g, real[int] largest)  M, A, B of
 //       the rank's elements, distributed as S is; rank 0's record takes its products from them;
 //       largest: their largest entries
 //   contactRanksStep(real[int] rhs, real[int] v, real[int] c, real[int] m, real[int] info)
 //       (rank 0) one step from its rhs and start (c, m); it gets v, c, m and info (the columns
-//       "solver_info"); returns the iterations, or -1 (every rank: no convergence)
+//       "solver_info"); returns the iterations, or -1 (no convergence). Direct: the kernel's
+//       Newton, the ranks' solves on rank 0's commands (condensed.cpp)
 //   contactRanksServe(real[int] rhs, real[int] v, real[int] c, real[int] m, real[int] info)
 //       (the other ranks) their part of every step and product rank 0 asks for, until rank 0
 //       calls contactRanksPeaks at the end of its time loop
@@ -49,7 +55,8 @@
 //   contactRanksPeaks(real[int] peaks)  rank 0 gets every rank's peak memory (MB)
 //   contactRanksCounters(real[int] counts)  Newton iterations (of the ranks' Newton), linear
 //       solves, linear iterations, preconditioner builds (direct: MUMPS's factorizations, one a
-//       run; iterative: a BoomerAMG hierarchy a linear solve)
+//       run; iterative: a BoomerAMG hierarchy a linear solve), refinements (direct: the kernel's
+//       Newton run again after a step's consistency test, condensed.cpp)
 //   contactRanksFinish()  waits for every rank, then ends PETSc
 #include "ranks.hpp"
 
@@ -464,6 +471,28 @@ long contact(Matrice_Creuse<double> *const &pC, string *const &path, const doubl
                   + (type ? type : "none") + "; use -ranksolver iterative");
     }
     CHECK(KSPSetUp(state.ksp));
+    // a factorization that failed (MUMPS's INFOG(1) < 0: out of memory, a matrix not positive
+    // definite, options of PETSC_OPTIONS) is said here, not at its first solve
+    PCFailedReason why = PC_NOERROR;
+    CHECK(PCGetFailedReason(pc, &why));
+    if (why != PC_NOERROR) {
+      MatSolverType package = nullptr;
+      Mat factor = nullptr;
+      CHECK(PCFactorGetMatSolverType(pc, &package));
+      CHECK(PCFactorGetMatrix(pc, &factor));
+      std::string detail = std::string("PETSc's reason ") + PCFailedReasons[why];
+      if (package && std::string(package) == MATSOLVERMUMPS) {
+        PetscInt info1 = 0, info2 = 0;
+        CHECK(MatMumpsGetInfog(factor, 1, &info1));
+        CHECK(MatMumpsGetInfog(factor, 2, &info2));
+        detail += ", MUMPS's INFOG(1) = " + std::to_string((long)info1) + ", INFOG(2) = " + std::to_string((long)info2);
+      }
+      const char *options = std::getenv("PETSC_OPTIONS");
+      if (state.rank != 0) sleep(3);                          // (every rank finds it: rank 0 says it)
+      rankFail(3, "the factorization of S (-ranksolver direct: " + builtSolver() + ") failed (" + detail
+                  + "): out of memory, or a matrix that is not positive definite (check the mesh)"
+                  + (options && *options ? std::string(", under PETSC_OPTIONS=\"") + options + "\"" : std::string("")));
+    }
     countFactorizations();
   }
   return 0;
@@ -484,9 +513,10 @@ long peaks(KN<double> *const &pout) {
 }
 long counters(KN<double> *const &pout) {
   KN<double> &out = *pout;
-  out.resize(4);
+  out.resize(5);
   out[0] = state.newtonIterations; out[1] = state.linearSolves; out[2] = state.linearIterations;
   out[3] = state.direct ? state.factorizations : state.linearSolves;   // (iterative: a BoomerAMG hierarchy a solve)
+  out[4] = state.refinements;
   return 0;
 }
 long finish() {

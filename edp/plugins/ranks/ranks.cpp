@@ -56,7 +56,8 @@
 //   contactRanksCounters(real[int] counts)  Newton iterations (of the ranks' Newton), linear
 //       solves, linear iterations, preconditioner builds (direct: MUMPS's factorizations, one a
 //       run; iterative: a BoomerAMG hierarchy a linear solve), refinements (direct: the kernel's
-//       Newton run again after a step's consistency test, condensed.cpp)
+//       Newton run again after a step's consistency test, condensed.cpp), the steps taken at
+//       that test's round-off floor
 //   contactRanksFinish()  waits for every rank, then ends PETSc
 #include "ranks.hpp"
 
@@ -513,10 +514,10 @@ long peaks(KN<double> *const &pout) {
 }
 long counters(KN<double> *const &pout) {
   KN<double> &out = *pout;
-  out.resize(5);
+  out.resize(6);
   out[0] = state.newtonIterations; out[1] = state.linearSolves; out[2] = state.linearIterations;
   out[3] = state.direct ? state.factorizations : state.linearSolves;   // (iterative: a BoomerAMG hierarchy a solve)
-  out[4] = state.refinements;
+  out[4] = state.refinements; out[5] = state.floors;
   return 0;
 }
 long finish() {

@@ -64,6 +64,7 @@ struct RankState {
   long newtonIterations = 0, linearSolves = 0, linearIterations = 0;
   long factorizations = 0;                // direct: MUMPS's numeric factorizations (the factor's state changes)
   long refinements = 0;                   // direct: the Newton run again after a step's consistency test (condensed.cpp)
+  long floors = 0;                        // direct: steps taken at the round-off floor of that test
   PetscObjectState factorState = -1;
   std::string failure;                    // why the last step's linear solve failed ("" if it did not)
 };

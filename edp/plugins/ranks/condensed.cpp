@@ -149,11 +149,15 @@ long condensedStep(KN<double> *const &prhs, KN<double> *const &pv, KN<double> *c
   return it;
 }
 
-// contactRanksDelassus(0): Dw = E F^-1 E' W on rank 0's kernel, with the two halves above as its
-// back-substitution (collective; after contactKernelExternalFactor and the kernel's parameters:
-// r_j = r / Dw_jj reads -r). Nothing on the iterative path.
-long delassus(const long &) {
+// contactRanksDelassus(progress): Dw = E F^-1 E' W on rank 0's kernel, with the two halves above
+// as its back-substitution (collective; after contactKernelExternalFactor and the kernel's
+// parameters: r_j = r / Dw_jj reads -r). Nothing on the iterative path. progress > 0: rank 0
+// says how far it is every that many seconds once it has taken twice that (the run's progress
+// lines, edp/lib/series.idp; -quiet: none)
+long delassus(const double &progress) {
   if (!state.direct) return 0;
+  const double started = MPI_Wtime();
+  double shown = started;
   PC pc;                                                      // (a factorization: contactRanksContact checked it)
   CHECK(KSPGetPC(state.ksp, &pc));
   Mat factor;
@@ -207,6 +211,11 @@ long delassus(const long &) {
         for (int q = 0; q < columns; q++)
           for (int l = 0; l < state.slotCounts[r]; l++)
             Dw[state.allSlots[state.slotDispls[r] + l] + (size_t)(j0 + q) * nc] = all[displs[r] + l + (size_t)q * state.slotCounts[r]];
+    const double now = MPI_Wtime();
+    if (state.rank == 0 && progress > 0 && now - started >= 2 * progress && now - shown >= progress && j0 + columns < nc) {
+      std::fprintf(stderr, "set-up: the Delassus matrix on the ranks, %d of %d columns (%.0f s)\n", j0 + columns, nc, now - started);
+      shown = now;
+    }
   }
   if (state.rank == 0) {
     // E F^-1 E' is symmetric; MUMPS's columns are, to round-off: made exactly so (the Newton reads

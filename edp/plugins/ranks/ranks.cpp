@@ -40,7 +40,8 @@
 //   contactRanksContact(matrix C, string path, real tol, int maxit, real r)  the contact nodes of the rank's
 //       vertices, their frames and the law's data of their slots (from the kernel instance, which
 //       contactKernelNodes filled), the solver path (direct or iterative); direct: S factorized
-//   contactRanksDelassus(0)  direct: the Delassus matrix on rank 0's kernel (after its parameters)
+//   contactRanksDelassus(real progress)  direct: the Delassus matrix on rank 0's kernel (after its
+//       parameters); progress > 0: a line every that many seconds once it has taken twice that
 //   contactRanksProducts(matrix M, matrix A, matrix B, int[int] l2g, real[int] largest)  M, A, B of
 //       the rank's elements, distributed as S is; rank 0's record takes its products from them;
 //       largest: their largest entries
@@ -555,7 +556,7 @@ static void Load_Init() {
   Global.Add("contactRanksPeaks", "(", new OneOperator1_<long, Array>(peaks));
   Global.Add("contactRanksCounters", "(", new OneOperator1_<long, Array>(counters));
   Global.Add("contactRanksFinish", "(", new OneOperator0<long>(finish));
-  Global.Add("contactRanksDelassus", "(", new OneOperator1_<long, long>(delassus));
+  Global.Add("contactRanksDelassus", "(", new OneOperator1_<long, double>(delassus));
 }
 
 LOADFUNC(Load_Init)

@@ -102,7 +102,7 @@ string *failure(Stack stack, const long &);
 // condensed.cpp (-ranksolver direct)
 void freeAll(const double *b, double *cFree);
 void finishAll(const double *m, double *v);
-long delassus(const long &);
+long delassus(const double &progress);
 long condensedStep(KN<double> *const &prhs, KN<double> *const &pv, KN<double> *const &pc, KN<double> *const &pm, KN<double> *const &pinfo);
 
 }  // namespace ranks

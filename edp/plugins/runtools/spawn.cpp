@@ -204,6 +204,9 @@ void checkCommandLine() {
     bool takesValue = false;
     if (restarted && i + 1 == args.size() && a == "-Ddimension=3") continue;
     if (onRanks && i + 2 >= args.size() && (a == "-Ddimension=3" || a == "-DranksMode=1")) continue;
+    if (onRanks && (a == "-Ddimension=3" || a == "-DranksMode=1"))   // (by hand under mpirun, not among the last two)
+      fail(2, "the argument '" + a + "' under mpirun: give -DranksMode=1 (and -Ddimension=3 for a 3D body) as the last arguments, "
+              + "after the suite's options (docs/design.md, \"Across ranks\")");
     if (freefemMacro(a))
       fail(2, "the argument '" + a + "' would be read by FreeFem++ as a macro definition (an argument that starts with '-' or 'D' "
               + "and has an '=' after its fourth character, wherever it stands), which could change the script: the suite refuses it"

@@ -105,3 +105,4 @@ hand_refusal() { # hand_refusal NAME REGEX ARGS...
 hand_refusal "without -ranks N" "the run under mpirun \(-DranksMode=1\) needs option -ranks N" -T 0.02 -DranksMode=1
 hand_refusal "for a 3D body without -Ddimension=3" "oblique-slide3d.scene is 3D: under mpirun, give -Ddimension=3 with -DranksMode=1" -ranks 2 -scene oblique-slide3d -T 0.02 -DranksMode=1
 hand_refusal "with -ranks N but without -DranksMode=1" "option -ranks 2 under mpirun: add -DranksMode=1" -ranks 2 -T 0.02
+hand_refusal "with -DranksMode=1 before the suite's options" "the argument '-DranksMode=1' under mpirun: give -DranksMode=1 \(and -Ddimension=3 for a 3D body\) as the last arguments" -DranksMode=1 -ranks 2 -T 0.02

@@ -9,7 +9,7 @@
 #   ./run.sh figures RUN_DIR [RUN_DIR ...]   every figure of those run folders, into RUN_DIR/figures
 #   ./run.sh animate RUN_DIR the deformed body over time (a run with -vtk N) -> RUN_DIR/figures
 #   ./run.sh bench [--quick] the benchmark: cost per step, work-precision (results/bench)
-#   ./run.sh bench-ranks [--quick | --iterative | --direct | --big]   -ranks N: scaling, the slab beyond one process (results/bench_ranks)
+#   ./run.sh bench-ranks [--quick | --iterative | --direct | --agree | --big]   -ranks N: scaling, the slab beyond one process (results/bench_ranks)
 #   ./run.sh stability [--quick]  where each method fails (results/stability)
 #   ./run.sh sweep -NAME V1,V2,... [options] -out DIR [-plot Q,...] [-jobs N]   one solve per value -> DIR
 # Checks for FreeFem++, gmsh, numdiff and python3 with matplotlib first, and installs

@@ -12,7 +12,10 @@
 #                     projected to 1e7 and 1e8 unknowns (plots/bench_ranks.py)
 #   ranks_*.png       the charts
 # --quick: the smallest mesh, N = 1, 2; --iterative, --direct: that path's rows again (the
-# others kept); --big: the slab 96x48x48 (698,691 unknowns)
+# others kept); --agree: the agreement with one process (the paper scene, original and penalty,
+# slab3d and oblique-slide3d on N = 1, 2, 3, 4 ranks, both paths: tests/check_results.py
+# --compare at 1e-9 and ./run.sh compare's relative L2 distance of v at T, into agreement.txt);
+# --big: the slab 96x48x48 (698,691 unknowns)
 # on 2 ranks, iterative path, and the direct path one size down (48x24x24) for its accuracy,
 # over one step (T = dt = 0.01).
 set -euo pipefail
@@ -26,10 +29,35 @@ case "${1:-}" in
   --big) mode=big ;;
   --iterative) mode=iterative ;;
   --direct) mode=direct ;;
+  --agree) mode=agree ;;
   "") ;;
-  *) echo "bench_ranks.sh: error: unknown argument '$1' (usage: bench_ranks.sh [--quick | --big | --iterative | --direct])" >&2; exit 2 ;;
+  *) echo "bench_ranks.sh: error: unknown argument '$1' (usage: bench_ranks.sh [--quick | --big | --iterative | --direct | --agree])" >&2; exit 2 ;;
 esac
 mkdir -p "$out/runs"
+if [ "$mode" = agree ]; then
+  list="$out/agreement.txt"
+  echo "# scene ranks path check_results_1e-9 relative_l2_v" > "$list"
+  for spec in "paper|-scene paper -T 0.2" "paper-penalty|-scene paper -problem penalty -T 0.2" "slab3d|-scene slab3d -T 0.02" \
+              "oblique-slide3d|-scene oblique-slide3d -T 0.1"; do
+    name=${spec%%|*}; read -r -a opts <<< "${spec#*|}"
+    one="$out/runs/agree-$name-1p"
+    rm -rf "$one"
+    ./run.sh solve "${opts[@]}" -estimate off -quiet -out "$one" > "$one.log" 2>&1 || { echo "bench_ranks.sh: $name on one process failed"; continue; }
+    for n in 1 2 3 4; do for path in direct iterative; do
+      dir="$out/runs/agree-$name-$n-$path"
+      rm -rf "$dir"
+      if ! ./run.sh solve "${opts[@]}" -ranks "$n" -ranksolver "$path" -quiet -out "$dir" > "$dir.log" 2>&1; then
+        echo "$name $n $path failed nan" >> "$list"; echo "$name, $n ranks, $path: failed"; continue
+      fi
+      verdict=passes
+      "$PYTHON" tests/check_results.py "$dir" --compare "$one" --rtol 1e-9 > "$dir.compare" 2>&1 || verdict=fails
+      distance=$(./run.sh compare -a "$dir" -ref "$one" 2>/dev/null | awk '{ printf "%.3g", $2 / $4 }')
+      echo "$name $n $path $verdict $distance" >> "$list"
+      echo "$name, $n ranks, $path: check_results --compare 1e-9 $verdict, relative L2 of v $distance"
+    done; done
+  done
+  exit 0
+fi
 table="$out/scaling.txt"
 case "$mode" in
   big) ;;

@@ -5,8 +5,8 @@
 //   F = R'SR, the Dirichlet rows and columns of the fixed components set to the identity's
 // (R the node rotation, ranks.cpp: in the nodes' frames a slot's velocity is one row of w, so
 // C = E R' with E the slots' rows, and C S^-1 C' = E F^-1 E'). They make
-//   - Dw once per run (contactRanksDelassus): F^-1 applied to the slots' unit vectors, by blocks
-//     of columns (MUMPS's MatMatSolve), the slots' rows of the result gathered on rank 0;
+//   - Dw once per run (contactRanksDelassus): the entries of F^-1 at the slots' rows and columns,
+//     MUMPS's entries of the inverse (ICNTL(30)), on rank 0;
 //   - the two halves of a step's back-substitution, which rank 0's kernel asks for through
 //     factor.externalFree and factor.externalFinish: cFree = E F^-1 R'b, then
 //     v = R F^-1 (R'b - E'W m).
@@ -163,62 +163,73 @@ long delassus(const double &progress) {
   Mat factor;
   CHECK(PCFactorGetMatrix(pc, &factor));
   const int nc = state.nc, ns = state.law.n;
-  std::vector<int> localOf(nc, -1);
-  for (int l = 0; l < ns; l++) localOf[state.slotGlobal[l]] = l;
-  // blocks of columns: about 2^22 entries of the right-hand sides over all ranks (32 MB, and as
-  // much for the solutions), 16 to 512 columns. (2^25 took 0.9 times the time at 48x24x24 on 2
-  // ranks, and rank 0's peak went from 1.37 to 2.38 GB: MUMPS gathers the block on it.)
-  const int block = (int)std::max<PetscInt>(16, std::min<PetscInt>(512, ((PetscInt)1 << 22) / std::max<PetscInt>(state.n, 1)));
-  std::vector<double> Dw(state.rank == 0 ? (size_t)nc * nc : 0), mine, all;
-  std::vector<double> weight(state.rank == 0 ? nc : 0);
-  if (state.rank == 0) {
-    const Kernel &k = currentKernel();
-    for (int j = 0; j < nc; j++) weight[j] = k.nodes.slotWeight[j];
+  // the slots' rows, on rank 0 in the kernel's numbering of the slots; their order (row, slot)
+  std::vector<PetscInt> mine(ns), gathered(state.rank == 0 ? nc : 0), rowOfSlot(state.rank == 0 ? nc : 0);
+  for (int l = 0; l < ns; l++) mine[l] = state.slotRow[l];
+  MPI_Gatherv(mine.data(), ns, MPIU_INT, gathered.data(), state.slotCounts.data(), state.slotDispls.data(), MPIU_INT, 0, MPI_COMM_WORLD);
+  std::vector<std::pair<PetscInt, int>> byRow(state.rank == 0 ? nc : 0);
+  for (int q = 0; q < (int)gathered.size(); q++) {
+    rowOfSlot[state.allSlots[q]] = gathered[q];
+    byRow[q] = {gathered[q], state.allSlots[q]};
   }
-  std::vector<int> counts(state.size), displs(state.size);
+  std::sort(byRow.begin(), byRow.end());
+  std::vector<PetscInt> rowsSorted(byRow.size());
+  for (size_t q = 0; q < byRow.size(); q++) rowsSorted[q] = byRow[q].first;
+  std::vector<double> Dw(state.rank == 0 ? (size_t)nc * nc : 0);
+  // MUMPS's entries of the inverse (ICNTL(30), MatMumpsGetInverseTranspose): the requested
+  // entries (the slots' rows and columns, n x n with its rows on rank 0) computed with the
+  // sparsity of the right-hand sides and of the entries wanted, by blocks of columns (about 20,
+  // for the progress lines). At 48x24x24 on 2 ranks 16 s, where dense blocks of MatMatSolve
+  // took 42 s, the same peak memory. PETSc leaves ICNTL(20), (21) and (30) as that call sets
+  // them, and a solve then fails (MUMPS's INFOG(1) = -22): they are put back.
+  PetscInt kept[3];
+  const PetscInt which[3] = {20, 21, 30};
+  for (int q = 0; q < 3; q++) CHECK(MatMumpsGetIcntl(factor, which[q], &kept[q]));
+  const int block = std::max(256, (nc + 19) / 20);
   for (int j0 = 0; j0 < nc; j0 += block) {
     const int columns = std::min(block, nc - j0);
-    Mat B, X;
-    CHECK(MatCreateDense(PETSC_COMM_WORLD, state.owned, PETSC_DECIDE, state.n, columns, nullptr, &B));
-    CHECK(MatCreateDense(PETSC_COMM_WORLD, state.owned, PETSC_DECIDE, state.n, columns, nullptr, &X));
-    PetscScalar *bv;
-    PetscInt lda;
-    CHECK(MatDenseGetLDA(B, &lda));
-    CHECK(MatDenseGetArray(B, &bv));
-    std::fill(bv, bv + (size_t)lda * columns, 0.);
-    for (int q = 0; q < columns; q++) {
-      const int l = localOf[j0 + q];
-      if (l >= 0) bv[(state.slotRow[l] - state.first) + (size_t)q * lda] = 1.;
+    Mat wanted;
+    CHECK(MatCreate(PETSC_COMM_WORLD, &wanted));
+    CHECK(MatSetSizes(wanted, state.rank == 0 ? state.n : 0, state.rank == 0 ? state.n : 0, PETSC_DECIDE, PETSC_DECIDE));
+    CHECK(MatSetType(wanted, MATAIJ));
+    std::vector<PetscInt> perRow(state.rank == 0 ? state.n : 0, 0);
+    for (int j = j0; j < j0 + columns && state.rank == 0; j++) perRow[rowOfSlot[j]] = nc;
+    CHECK(MatSeqAIJSetPreallocation(wanted, 0, perRow.data()));
+    CHECK(MatMPIAIJSetPreallocation(wanted, 0, perRow.data(), 0, nullptr));
+    if (state.rank == 0) {
+      const std::vector<PetscScalar> zeros(nc, 0.);
+      for (int j = j0; j < j0 + columns; j++) CHECK(MatSetValues(wanted, 1, &rowOfSlot[j], nc, rowsSorted.data(), zeros.data(), INSERT_VALUES));
     }
-    CHECK(MatDenseRestoreArray(B, &bv));
-    CHECK(MatAssemblyBegin(B, MAT_FINAL_ASSEMBLY));
-    CHECK(MatAssemblyEnd(B, MAT_FINAL_ASSEMBLY));
-    CHECK(MatMatSolve(factor, B, X));
-    const PetscScalar *xv;
-    CHECK(MatDenseGetLDA(X, &lda));
-    CHECK(MatDenseGetArrayRead(X, &xv));
-    mine.assign((size_t)ns * columns, 0.);
-    for (int q = 0; q < columns; q++)
-      for (int l = 0; l < ns; l++) mine[l + (size_t)q * ns] = xv[(state.slotRow[l] - state.first) + (size_t)q * lda];
-    CHECK(MatDenseRestoreArrayRead(X, &xv));
-    CHECK(MatDestroy(&B));
-    CHECK(MatDestroy(&X));
-    for (int r = 0; r < state.size; r++) { counts[r] = state.slotCounts[r] * columns; displs[r] = state.slotDispls[r] * columns; }
-    all.assign(state.rank == 0 ? (size_t)nc * columns : 0, 0.);
-    MPI_Gatherv(mine.data(), ns * columns, MPI_DOUBLE, all.data(), counts.data(), displs.data(), MPI_DOUBLE, 0, MPI_COMM_WORLD);
-    if (state.rank == 0)
-      for (int r = 0; r < state.size; r++)
-        for (int q = 0; q < columns; q++)
-          for (int l = 0; l < state.slotCounts[r]; l++)
-            Dw[state.allSlots[state.slotDispls[r] + l] + (size_t)(j0 + q) * nc] = all[displs[r] + l + (size_t)q * state.slotCounts[r]];
+    CHECK(MatAssemblyBegin(wanted, MAT_FINAL_ASSEMBLY));
+    CHECK(MatAssemblyEnd(wanted, MAT_FINAL_ASSEMBLY));
+    CHECK(MatMumpsGetInverseTranspose(factor, wanted));   // row r_j: (F^-T)_{r_j, r_i} = (F^-1)_{r_i, r_j}
+    for (int q = 0; q < 3; q++) CHECK(MatMumpsSetIcntl(factor, which[q], kept[q]));
+    for (int j = j0; j < j0 + columns && state.rank == 0; j++) {
+      PetscInt count;
+      const PetscInt *column;
+      const PetscScalar *value;
+      CHECK(MatGetRow(wanted, rowOfSlot[j], &count, &column, &value));
+      if (count != nc) rankFail(3, "MUMPS's entries of the inverse: a column of the Delassus matrix came back incomplete");
+      for (PetscInt e = 0; e < count; e++) {
+        const auto at = std::lower_bound(byRow.begin(), byRow.end(), std::make_pair(column[e], -1));
+        Dw[at->second + (size_t)j * nc] = value[e];
+      }
+      CHECK(MatRestoreRow(wanted, rowOfSlot[j], &count, &column, &value));
+    }
+    CHECK(MatDestroy(&wanted));
     const double now = MPI_Wtime();
     if (state.rank == 0 && progress > 0 && now - started >= 2 * progress && now - shown >= progress && j0 + columns < nc) {
       std::fprintf(stderr, "set-up: the Delassus matrix on the ranks, %d of %d columns (%.0f s)\n", j0 + columns, nc, now - started);
       shown = now;
     }
   }
+  std::vector<double> weight(state.rank == 0 ? nc : 0);
   if (state.rank == 0) {
-    // E F^-1 E' is symmetric; MUMPS's columns are, to round-off: made exactly so (the Newton reads
+    const Kernel &k = currentKernel();
+    for (int j = 0; j < nc; j++) weight[j] = k.nodes.slotWeight[j];
+  }
+  if (state.rank == 0) {
+    // E F^-1 E' is symmetric; MUMPS's entries are, to round-off: made exactly so (the Newton reads
     // Dw's rows from its columns, newton.cpp), then Dw = D W
     for (int j = 0; j < nc; j++)
       for (int i = j + 1; i < nc; i++) {

@@ -74,8 +74,11 @@ expect_failure "-ranks direct: a back-substitution that fails" 4 "step 1 \(t = [
 export PETSC_OPTIONS="-ranks_mat_mumps_icntl_14 -90"
 expect_failure "-ranks direct: a factorization that fails" 3 "error: rank 0 of 2: the factorization of S \(-ranksolver direct: [^)]*\) failed \(PETSc's reason [A-Z_]+, MUMPS's INFOG\(1\) = -[0-9]+, INFOG\(2\) = [0-9-]+\)" -ranks 2 -T 0.02
 unset PETSC_OPTIONS
-# The direct path needs its factor (the Delassus matrix's solves): another preconditioner
-# chosen by PETSC_OPTIONS is refused by name, exit 2, nothing written
+# The direct path needs MUMPS's factor (the Delassus matrix from its entries of the inverse):
+# another factorization or preconditioner chosen by PETSC_OPTIONS is refused by name, exit 2,
+# nothing written
+export PETSC_OPTIONS="-ranks_pc_type lu -ranks_pc_factor_mat_solver_type superlu_dist"
+expect_failure "-ranks: the direct path with another factorization than MUMPS's" 2 "option -ranksolver direct: its factorization must be MUMPS's \(the Delassus matrix is made from MUMPS's entries of the inverse\), but PETSC_OPTIONS chose superlu_dist" -ranks 2 -T 0.02
 export PETSC_OPTIONS="-ranks_pc_type hypre"
 expect_failure "-ranks: the direct path without a factorization" 2 "option -ranksolver direct: its preconditioner must be a factorization \(LU or Cholesky\), but PETSC_OPTIONS chose hypre; use -ranksolver iterative" -ranks 2 -T 0.02
 unset PETSC_OPTIONS

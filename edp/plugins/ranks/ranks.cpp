@@ -472,6 +472,15 @@ long contact(Matrice_Creuse<double> *const &pC, string *const &path, const doubl
       rankFail(2, std::string("option -ranksolver direct: its preconditioner must be a factorization (LU or Cholesky), but PETSC_OPTIONS chose ")
                   + (type ? type : "none") + "; use -ranksolver iterative");
     }
+    // the Delassus matrix is MUMPS's entries of the inverse (condensed.cpp): MUMPS's factor only
+    MatSolverType package = nullptr;
+    CHECK(PCFactorGetMatSolverType(pc, &package));
+    if (!package || std::string(package) != MATSOLVERMUMPS) {
+      if (state.rank != 0) sleep(3);
+      rankFail(2, std::string("option -ranksolver direct: its factorization must be MUMPS's (the Delassus matrix is made from MUMPS's "
+                              "entries of the inverse), but PETSC_OPTIONS chose ") + (package ? package : "PETSc's own")
+                  + "; use -ranksolver iterative with that factorization as its preconditioner");
+    }
     CHECK(KSPSetUp(state.ksp));
     // a factorization that failed (MUMPS's INFOG(1) < 0: out of memory, a matrix not positive
     // definite, options of PETSC_OPTIONS) is said here, not at its first solve

@@ -82,6 +82,14 @@ expect_failure "-ranks: the direct path with another factorization than MUMPS's"
 export PETSC_OPTIONS="-ranks_pc_type hypre"
 expect_failure "-ranks: the direct path without a factorization" 2 "option -ranksolver direct: its preconditioner must be a factorization \(LU or Cholesky\), but PETSC_OPTIONS chose hypre; use -ranksolver iterative" -ranks 2 -T 0.02
 unset PETSC_OPTIONS
+# MUMPS's LU in place of its Cholesky (PETSC_OPTIONS=-ranks_pc_type lu) runs the direct path, = one process
+diag="$work/ranks-lu.diag"; : > "$diag"; status=0
+rm -rf "$work/ranks-lu"
+PETSC_OPTIONS="-ranks_pc_type lu" solve -ranks 2 -T 0.2 -quiet -out "$work/ranks-lu" >> "$diag" 2>&1 || status=1
+grep -qx "ranks_engine PETSc [0-9.]*, GMRES with MUMPS LU of S, once per run; the kernel's Newton on the Delassus matrix" "$work/ranks-lu/summary.txt" 2>/dev/null \
+  || { echo "summary.txt does not name MUMPS LU"; grep ranks_engine "$work/ranks-lu/summary.txt"; } >> "$diag" 2>&1 || status=1
+"$PYTHON" tests/check_results.py "$work/ranks-lu" --compare "$work/ranks-paper-1p" --rtol 1e-9 >> "$diag" 2>&1 || status=1
+report $status "ranks: the direct path with MUMPS's LU (PETSC_OPTIONS=-ranks_pc_type lu) = one process to 1e-9" "$diag"
 # An error of PETSc on a rank (an option it refuses): said with the rank, exit 3, nothing written
 export PETSC_OPTIONS="-ranks_pc_type nosuchpc"
 expect_failure "-ranks: PETSc refuses an option of PETSC_OPTIONS" 3 "error: rank 0 of 2: PETSc error [0-9]+ in KSPSetFromOptions" -ranks 2 -T 0.02

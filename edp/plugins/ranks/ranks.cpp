@@ -472,9 +472,15 @@ long contact(Matrice_Creuse<double> *const &pC, string *const &path, const doubl
       rankFail(2, std::string("option -ranksolver direct: its preconditioner must be a factorization (LU or Cholesky), but PETSC_OPTIONS chose ")
                   + (type ? type : "none") + "; use -ranksolver iterative");
     }
-    // the Delassus matrix is MUMPS's entries of the inverse (condensed.cpp): MUMPS's factor only
+    // the Delassus matrix is MUMPS's entries of the inverse (condensed.cpp): MUMPS's factor only.
+    // (PETSC_OPTIONS=-ranks_pc_type lu changes the factorization's type, which forgets the package
+    // set above: MUMPS again, unless another was named)
     MatSolverType package = nullptr;
     CHECK(PCFactorGetMatSolverType(pc, &package));
+    if (!package) {
+      CHECK(PCFactorSetMatSolverType(pc, MATSOLVERMUMPS));
+      CHECK(PCFactorGetMatSolverType(pc, &package));
+    }
     if (!package || std::string(package) != MATSOLVERMUMPS) {
       if (state.rank != 0) sleep(3);
       rankFail(2, std::string("option -ranksolver direct: its factorization must be MUMPS's (the Delassus matrix is made from MUMPS's "

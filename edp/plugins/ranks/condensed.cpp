@@ -142,6 +142,7 @@ long condensedStep(KN<double> *const &prhs, KN<double> *const &pv, KN<double> *c
   }
   if (!state.failure.empty() || std::isnan(info[contactkernel::InfoResidual])) it = -1;
   info[contactkernel::InfoIterations] = iterations;
+  state.newtonIterations += (long)iterations;
   copyInto(*pv, v.data(), state.n);
   copyInto(*pc, c.data(), nc);
   copyInto(*pm, m.data(), nc);

@@ -76,6 +76,17 @@ RankState state;
   MPI_Abort(MPI_COMM_WORLD, code);
   std::_Exit(code);
 }
+// ", under PETSC_OPTIONS=\"...\"" when they are set (a failure's message names them), else ""
+std::string underOptions() {
+  const char *options = std::getenv("PETSC_OPTIONS");
+  return options && *options ? std::string(", under PETSC_OPTIONS=\"") + options + "\"" : std::string();
+}
+// An error every rank finds alike (the options, the factorization): rank 0 says it, the others
+// wait 3 s first (mpirun stops them once rank 0 has failed), as the script's checks do
+[[noreturn]] void failAlike(int code, const std::string &message) {
+  if (state.rank != 0) sleep(3);
+  rankFail(code, message);
+}
 void check(PetscErrorCode status, const char *what) {
   if (status) rankFail(3, std::string("PETSc error ") + std::to_string((int)status) + " in " + what);
 }
@@ -467,11 +478,9 @@ long contact(Matrice_Creuse<double> *const &pC, string *const &path, const doubl
   if (state.direct) {                                         // the factorization, once per run
     PCType type;
     CHECK(PCGetType(pc, &type));
-    if (!type || (std::string(type) != PCLU && std::string(type) != PCCHOLESKY)) {
-      if (state.rank != 0) sleep(3);                          // (every rank finds it: rank 0 says it)
-      rankFail(2, std::string("option -ranksolver direct: its preconditioner must be a factorization (LU or Cholesky), but PETSC_OPTIONS chose ")
-                  + (type ? type : "none") + "; use -ranksolver iterative");
-    }
+    if (!type || (std::string(type) != PCLU && std::string(type) != PCCHOLESKY))
+      failAlike(2, std::string("option -ranksolver direct: its preconditioner must be a factorization (LU or Cholesky), but PETSC_OPTIONS chose ")
+                   + (type ? type : "none") + "; use -ranksolver iterative");
     // the Delassus matrix is MUMPS's entries of the inverse (condensed.cpp): MUMPS's factor only.
     // (PETSC_OPTIONS=-ranks_pc_type lu changes the factorization's type, which forgets the package
     // set above: MUMPS again, unless another was named)
@@ -481,34 +490,24 @@ long contact(Matrice_Creuse<double> *const &pC, string *const &path, const doubl
       CHECK(PCFactorSetMatSolverType(pc, MATSOLVERMUMPS));
       CHECK(PCFactorGetMatSolverType(pc, &package));
     }
-    if (!package || std::string(package) != MATSOLVERMUMPS) {
-      if (state.rank != 0) sleep(3);
-      rankFail(2, std::string("option -ranksolver direct: its factorization must be MUMPS's (the Delassus matrix is made from MUMPS's "
-                              "entries of the inverse), but PETSC_OPTIONS chose ") + (package ? package : "PETSc's own")
-                  + "; use -ranksolver iterative with that factorization as its preconditioner");
-    }
+    if (!package || std::string(package) != MATSOLVERMUMPS)
+      failAlike(2, std::string("option -ranksolver direct: its factorization must be MUMPS's (the Delassus matrix is made from MUMPS's "
+                               "entries of the inverse), but PETSC_OPTIONS chose ") + (package ? package : "PETSc's own")
+                   + "; use -ranksolver iterative with that factorization as its preconditioner");
     CHECK(KSPSetUp(state.ksp));
     // a factorization that failed (MUMPS's INFOG(1) < 0: out of memory, a matrix not positive
     // definite, options of PETSC_OPTIONS) is said here, not at its first solve
     PCFailedReason why = PC_NOERROR;
     CHECK(PCGetFailedReason(pc, &why));
-    if (why != PC_NOERROR) {
-      MatSolverType package = nullptr;
+    if (why != PC_NOERROR) {                                  // (MUMPS's, as checked above)
       Mat factor = nullptr;
-      CHECK(PCFactorGetMatSolverType(pc, &package));
+      PetscInt info1 = 0, info2 = 0;
       CHECK(PCFactorGetMatrix(pc, &factor));
-      std::string detail = std::string("PETSc's reason ") + PCFailedReasons[why];
-      if (package && std::string(package) == MATSOLVERMUMPS) {
-        PetscInt info1 = 0, info2 = 0;
-        CHECK(MatMumpsGetInfog(factor, 1, &info1));
-        CHECK(MatMumpsGetInfog(factor, 2, &info2));
-        detail += ", MUMPS's INFOG(1) = " + std::to_string((long)info1) + ", INFOG(2) = " + std::to_string((long)info2);
-      }
-      const char *options = std::getenv("PETSC_OPTIONS");
-      if (state.rank != 0) sleep(3);                          // (every rank finds it: rank 0 says it)
-      rankFail(3, "the factorization of S (-ranksolver direct: " + builtSolver() + ") failed (" + detail
-                  + "): out of memory, or a matrix that is not positive definite (check the mesh)"
-                  + (options && *options ? std::string(", under PETSC_OPTIONS=\"") + options + "\"" : std::string("")));
+      CHECK(MatMumpsGetInfog(factor, 1, &info1));
+      CHECK(MatMumpsGetInfog(factor, 2, &info2));
+      failAlike(3, "the factorization of S (-ranksolver direct: " + builtSolver() + ") failed (PETSc's reason " + PCFailedReasons[why]
+                   + ", MUMPS's INFOG(1) = " + std::to_string((long)info1) + ", INFOG(2) = " + std::to_string((long)info2)
+                   + "): out of memory, or a matrix that is not positive definite (check the mesh)" + underOptions());
     }
     countFactorizations();
   }

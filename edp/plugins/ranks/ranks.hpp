@@ -89,6 +89,7 @@ inline int nextCommand() {
 
 // ranks.cpp
 std::string builtSolver();                          // the Krylov method and preconditioner as built
+std::string underOptions();                         // ", under PETSC_OPTIONS=..." if set, else ""
 // step.cpp
 bool solveChecked(Mat A, Vec b, Vec x, const char *what);   // KSPSolve, its true residual checked
 void countFactorizations();

@@ -61,9 +61,7 @@ bool solveChecked(Mat A, Vec b, Vec x, const char *what) {
     std::snprintf(text, sizeof text, "%s (-ranksolver %s: %s) stopped after %d iterations, relative residual %.3g (PETSc's reason %s)",
                   what, state.direct ? "direct" : "iterative", builtSolver().c_str(), (int)its, bnorm > 0 ? (double)(norm / bnorm) : (double)norm,
                   norm > 1e-8 * bnorm && reason == KSP_DIVERGED_DTOL ? "DIVERGED_DTOL, or a residual above 1e-8 after its own test" : KSPConvergedReasons[reason]);
-    state.failure = text;
-    const char *options = std::getenv("PETSC_OPTIONS");
-    if (options && *options) state.failure += std::string(", under PETSC_OPTIONS=\"") + options + "\"";
+    state.failure = text + underOptions();
     return false;
   }
   return true;

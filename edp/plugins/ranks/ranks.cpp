@@ -31,20 +31,22 @@
 //       with MUMPS Cholesky of S, once per run; the kernel's Newton on the Delassus matrix"
 //       (direct), "..., GMRES with BoomerAMG" (iterative), or what PETSC_OPTIONS chose
 //   contactRanksShareText(string text)  rank 0's text, on every rank
-//   contactRanksNumbering(int[int] rowOf, int owned)  rowOf: the PETSc row of every FreeFEM
-//       degree of freedom (the same array on every rank); owned: the rows of this rank
-//   contactRanksMatrix(matrix S, int[int] l2g, matrix D, real[int] fixed, real[int] xyz)  S of the
-//       rank's elements (local numbering; l2g: local to FreeFEM's global), D = C'W Kn C (global;
-//       rank 0 adds it), fixed: 1 on the Dirichlet degrees of freedom, xyz: the coordinates of
-//       every vertex, one after the other (the rigid-body modes, GAMG's near-null space)
+//   contactRanksNumbering(int[int] rowOf, int owned, int dim)  rowOf: the PETSc row of every
+//       FreeFEM degree of freedom (the same array on every rank); owned: the rows of this rank;
+//       dim: the body's dimension (the components of a vertex, PETSc's block size)
+//   contactRanksProduct(matrix X, int q, int[int] l2g, real[int] largest)  X = M, A, B (q = 0, 1,
+//       2) of the rank's elements (local numbering; l2g: local to FreeFEM's global), distributed
+//       as S is, one at a time; rank 0's record takes its products from them; largest[q]: the
+//       largest entry of X
+//   contactRanksMatrix(real k, matrix D, real[int] fixed, real[int] xyz)  S = M/k + A + kB from
+//       them, D = C'W Kn C (global; rank 0 adds it), fixed: 1 on the Dirichlet degrees of
+//       freedom, xyz: the coordinates of every vertex, one after the other (the rigid-body modes,
+//       GAMG's near-null space)
 //   contactRanksContact(matrix C, string path, real tol, int maxit, real r)  the contact nodes of the rank's
 //       vertices, their frames and the law's data of their slots (from the kernel instance, which
 //       contactKernelNodes filled), the solver path (direct or iterative); direct: S factorized
 //   contactRanksDelassus(real progress)  direct: the Delassus matrix on rank 0's kernel (after its
 //       parameters); progress > 0: a line every that many seconds once it has taken twice that
-//   contactRanksProducts(matrix M, matrix A, matrix B, int[int] l2g, real[int] largest)  M, A, B of
-//       the rank's elements, distributed as S is; rank 0's record takes its products from them;
-//       largest: their largest entries
 //   contactRanksStep(real[int] rhs, real[int] v, real[int] c, real[int] m, real[int] info)
 //       (rank 0) one step from its rhs and start (c, m); it gets v, c, m and info (the columns
 //       "solver_info"); returns the iterations, or -1 (no convergence). Direct: the kernel's
@@ -171,8 +173,10 @@ string *shareText(Stack stack, string *const &text) {
   return Add2StackOfPtr2Free(stack, new string(out));
 }
 
-long numbering(KN<long> *const &pRowOf, const long &owned) {
+long numbering(KN<long> *const &pRowOf, const long &owned, const long &dim) {
   const KN<long> &rowOf = *pRowOf;
+  if (dim != 2 && dim != 3) ExecError("contactRanksNumbering: dim is 2 or 3");
+  state.dim = (int)dim;
   state.n = rowOf.N();
   state.owned = owned;
   state.rowOf.resize(state.n);
@@ -218,15 +222,13 @@ Mat assembledCOO(std::vector<PetscInt> &I, std::vector<PetscInt> &Jc, std::vecto
   CHECK(MatDestroy(&coo));
   return out;
 }
-long matrix(Matrice_Creuse<double> *const &pS, KN<long> *const &pl2g, Matrice_Creuse<double> *const &pD, KN<double> *const &pfixed,
-            KN<double> *const &pxyz) {
-  const KN<long> &l2g = *pl2g;
+// S = M/k + A + kB (the record's M, A, B on the ranks, contactRanksProduct), plus D = C'W Kn C
+// (global; rank 0 adds its entries) and an entry on every owned row's diagonal; fixed: 1 on the
+// Dirichlet degrees of freedom, xyz: the coordinates of every vertex (the near-null space)
+long matrix(const double &k, Matrice_Creuse<double> *const &pD, KN<double> *const &pfixed, KN<double> *const &pxyz) {
+  for (int q = 0; q < 3; q++) if (!state.products[q]) ExecError("contactRanksMatrix: M, A and B first (contactRanksProduct)");
   std::vector<PetscInt> I, Jc;
   std::vector<PetscScalar> V;
-  forEachEntry(pS, [&](int i, int j, double a) {
-    if (i >= l2g.N() || j >= l2g.N()) ExecError("contactRanksMatrix: the local matrix is larger than its map");
-    I.push_back(state.rowOf[l2g[i]]); Jc.push_back(state.rowOf[l2g[j]]); V.push_back(a);
-  });
   if (state.rank == 0) forEachEntry(pD, [&](int i, int j, double a) {
     I.push_back(state.rowOf[i]); Jc.push_back(state.rowOf[j]); V.push_back(a);
   });
@@ -235,9 +237,7 @@ long matrix(Matrice_Creuse<double> *const &pS, KN<long> *const &pl2g, Matrice_Cr
   const std::vector<double> fixed = copyOf(*pfixed);
   if ((PetscInt)fixed.size() != state.n) ExecError("contactRanksMatrix: fixed must have one value per degree of freedom");
   const std::vector<double> xyz = copyOf(*pxyz);
-  const size_t vertices = xyz.size() / 3;
-  state.dim = vertices > 0 ? (int)(state.n / (PetscInt)vertices) : 2;
-  if (state.dim != 2 && state.dim != 3) ExecError("contactRanksMatrix: xyz must hold 3 coordinates per vertex");
+  if ((PetscInt)(xyz.size() / 3) * state.dim != state.n) ExecError("contactRanksMatrix: xyz must hold 3 coordinates per vertex");
   state.fixedOwned.assign(state.owned, 0);
   state.xyz.assign(state.owned, 0.);
   for (PetscInt i = 0; i < state.owned; i++) {
@@ -245,39 +245,47 @@ long matrix(Matrice_Creuse<double> *const &pS, KN<long> *const &pl2g, Matrice_Cr
     state.fixedOwned[i] = fixed[dof] != 0;
     state.xyz[i] = xyz[3 * (dof / state.dim) + dof % state.dim];
   }
-  state.S = assembledCOO(I, Jc, V, state.dim);
+  Mat D = assembledCOO(I, Jc, V, state.dim);
+  CHECK(MatDuplicate(state.products[0], MAT_COPY_VALUES, &state.S));
+  CHECK(MatScale(state.S, 1. / k));
+  CHECK(MatAXPY(state.S, 1., state.products[1], DIFFERENT_NONZERO_PATTERN));
+  CHECK(MatAXPY(state.S, k, state.products[2], DIFFERENT_NONZERO_PATTERN));
+  CHECK(MatAXPY(state.S, 1., D, DIFFERENT_NONZERO_PATTERN));
+  CHECK(MatDestroy(&D));
   return 0;
 }
 
 // ---------------------------------------------------------------- M, A, B for the record
-// M, A, B of the rank's elements (local numbering; l2g: local to FreeFEM's global), assembled
-// into three MPIAIJ matrices (the rows of the rank's vertices); largest: their largest entries
-// |M_ij|, |A_ij|, |B_ij| (on every rank). On rank 0, the kernel's record takes its products from
-// them (products.external): no rank holds M, A or B whole.
-long productsBinding(Matrice_Creuse<double> *const &pM, Matrice_Creuse<double> *const &pA, Matrice_Creuse<double> *const &pB,
-                     KN<long> *const &pl2g, KN<double> *const &plargest) {
+// X (q = 0, 1, 2: M, A, B) of the rank's elements (local numbering; l2g: local to FreeFEM's
+// global), assembled into an MPIAIJ matrix (the rows of the rank's vertices); largest[q]: its
+// largest entry |X_ij| (on every rank). One at a time, each freed by the script before the
+// next is assembled: a rank's peak memory is one local matrix and PETSc's copies, not four
+// local matrices. With all three, the kernel's record on rank 0 takes its products from them
+// (products.external): no rank holds M, A or B whole.
+long productBinding(Matrice_Creuse<double> *const &pX, const long &q, KN<long> *const &pl2g, KN<double> *const &plargest) {
+  if (q < 0 || q > 2) ExecError("contactRanksProduct: q is 0 (M), 1 (A) or 2 (B)");
   const KN<long> &l2g = *pl2g;
-  Matrice_Creuse<double> *local[3] = {pM, pA, pB};
   KN<double> &largest = *plargest;
-  largest.resize(3);
-  for (int q = 0; q < 3; q++) {
-    std::vector<PetscInt> I, Jc;
-    std::vector<PetscScalar> V;
-    forEachEntry(local[q], [&](int i, int j, double a) {
-      if (i >= l2g.N() || j >= l2g.N()) ExecError("contactRanksProducts: the local matrix is larger than its map");
-      I.push_back(state.rowOf[l2g[i]]); Jc.push_back(state.rowOf[l2g[j]]); V.push_back(a);
-    });
-    Mat &P = state.products[q];
-    P = assembledCOO(I, Jc, V, 1);
-    Vec rowMax;
-    CHECK(MatCreateVecs(P, &state.px[q], &rowMax));
-    CHECK(MatGetRowMaxAbs(P, rowMax, nullptr));
-    PetscReal most = 0;
-    CHECK(VecNorm(rowMax, NORM_INFINITY, &most));
-    CHECK(VecDestroy(&rowMax));
-    largest[q] = most;
-  }
-  CHECK(VecDuplicate(state.px[0], &state.x));
+  if (largest.N() != 3) largest.resize(3);
+  std::vector<PetscInt> I, Jc;
+  std::vector<PetscScalar> V;
+  forEachEntry(pX, [&](int i, int j, double a) {
+    if (i >= l2g.N() || j >= l2g.N()) ExecError("contactRanksProduct: the local matrix is larger than its map");
+    I.push_back(state.rowOf[l2g[i]]); Jc.push_back(state.rowOf[l2g[j]]); V.push_back(a);
+  });
+  Mat &P = state.products[q];
+  if (P) CHECK(MatDestroy(&P));
+  if (state.px[q]) CHECK(VecDestroy(&state.px[q]));
+  P = assembledCOO(I, Jc, V, state.dim);
+  Vec rowMax;
+  CHECK(MatCreateVecs(P, &state.px[q], &rowMax));
+  CHECK(MatGetRowMaxAbs(P, rowMax, nullptr));
+  PetscReal most = 0;
+  CHECK(VecNorm(rowMax, NORM_INFINITY, &most));
+  CHECK(VecDestroy(&rowMax));
+  largest[q] = most;
+  if (!state.products[0] || !state.products[1] || !state.products[2]) return 0;
+  if (!state.x) CHECK(VecDuplicate(state.px[0], &state.x));
   if (state.rank == 0) {
     Kernel &k = currentKernel();
     k.products = contactkernel::ProductMatrices();
@@ -560,12 +568,12 @@ static void Load_Init() {
   Global.Add("contactRanksStart", "(", new OneOperator1_<long, string *>(start));
   Global.Add("contactRanksEngine", "(", new OneOperator1s_<string *, long>(engine));
   Global.Add("contactRanksShareText", "(", new OneOperator1s_<string *, string *>(shareText));
-  Global.Add("contactRanksNumbering", "(", new OneOperator2_<long, Integers, long>(numbering));
-  Global.Add("contactRanksMatrix", "(", new OneOperator5_<long, Matrix, Integers, Matrix, Array, Array>(matrix));
+  Global.Add("contactRanksNumbering", "(", new OneOperator3_<long, Integers, long, long>(numbering));
+  Global.Add("contactRanksMatrix", "(", new OneOperator4_<long, double, Matrix, Array, Array>(matrix));
   Global.Add("contactRanksContact", "(", new OneOperator5_<long, Matrix, string *, double, long, double>(contact));
   Global.Add("contactRanksStep", "(", new OneOperator5_<long, Array, Array, Array, Array, Array>(step));
   Global.Add("contactRanksServe", "(", new OneOperator5_<long, Array, Array, Array, Array, Array>(serve));
-  Global.Add("contactRanksProducts", "(", new OneOperator5_<long, Matrix, Matrix, Matrix, Integers, Array>(productsBinding));
+  Global.Add("contactRanksProduct", "(", new OneOperator4_<long, Matrix, long, Integers, Array>(productBinding));
   Global.Add("contactRanksFailure", "(", new OneOperator1s_<string *, long>(failure));
   Global.Add("contactRanksPeaks", "(", new OneOperator1_<long, Array>(peaks));
   Global.Add("contactRanksCounters", "(", new OneOperator1_<long, Array>(counters));

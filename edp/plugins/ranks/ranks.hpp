@@ -1,5 +1,6 @@
-// ranks.hpp: what the two files of the ranks' plugin share (ranks.cpp: the set-up, the run's
-// figures and the FreeFEM functions; step.cpp: a step, the record's products): the rank's
+// ranks.hpp: what the files of the ranks' plugin share (ranks.cpp: the set-up, the run's
+// figures and the FreeFEM functions; step.cpp: a step, the record's products; condensed.cpp:
+// the direct path's steps; partition.cpp: the mesh's partition): the rank's
 // state, its failure, and the commands rank 0 broadcasts to the other ranks.
 #ifndef CONTACT_RANKS_HPP
 #define CONTACT_RANKS_HPP
@@ -43,7 +44,7 @@ struct RankState {
   std::vector<double> xyz;                // owned vertices' coordinates (the rigid-body modes)
   std::vector<char> fixedOwned;           // the owned rows fixed by a Dirichlet condition
   Mat S = nullptr, R = nullptr, Srot = nullptr, J = nullptr;
-  Mat products[3] = {nullptr, nullptr, nullptr};   // M, A, B: the record's products (contactRanksProducts)
+  Mat products[3] = {nullptr, nullptr, nullptr};   // M, A, B: the record's products (contactRanksProduct)
   Vec x = nullptr, px[3] = {nullptr, nullptr, nullptr};
   Vec b = nullptr, brot = nullptr, w = nullptr, bJ = nullptr, Sw = nullptr, x0 = nullptr, vOwned = nullptr;
   KSP ksp = nullptr;
@@ -73,6 +74,8 @@ extern RankState state;
 // An error of one rank: said with the rank, then the run stops as on a signal, but with the
 // exit code given (ranks.cpp)
 [[noreturn]] void rankFail(int code, const std::string &message);
+// ... an error every rank finds alike: rank 0 says it, the others wait 3 s first
+[[noreturn]] void failAlike(int code, const std::string &message);
 void check(PetscErrorCode status, const char *what);
 #define CHECK(call) check((call), #call)
 

@@ -60,9 +60,9 @@ solve -T 0.2 -estimate off -quiet -out "$work/ranks-restart-1p" >> "$diag" 2>&1 
 grep -qx "ranks 2" "$work/ranks-restart-b/summary.txt" 2>/dev/null || { echo "the restart did not run on the 2 ranks of its run" >> "$diag"; status=1; }
 "$PYTHON" tests/check_results.py "$work/ranks-restart-b" --compare "$work/ranks-restart-1p" --rtol 1e-9 >> "$diag" 2>&1 || status=1
 report $status "ranks: a run on 2 ranks restarted from its state.txt = one process over the whole time, to 1e-9" "$diag"
-# A mesh too coarse for the ranks (METIS leaves one without elements), and a linear solve that
+# A mesh too coarse for the ranks (fewer elements than ranks: refused before METIS), and a linear solve that
 # "converges" above 1e-8 |b| by PETSc's own test (rtol 1): refused, nothing written
-expect_failure "-ranks: a rank without elements" 2 "option -ranks 2: the mesh's 2 elements leave 1 of the 2 ranks without an element" -ranks 2 -nx 1 -ny 1 -T 0.05
+expect_failure "-ranks: a rank without elements" 2 "option -ranks 3: the mesh's 2 elements leave 1 of the 3 ranks without an element" -ranks 3 -nx 1 -ny 1 -T 0.05
 export PETSC_OPTIONS="-ranks_ksp_rtol 1"
 expect_failure "-ranks: a linear solve above 1e-8 |b|" 4 "the linear solve of a Newton iteration .* relative residual [0-9.e+-]+ \(PETSc's reason DIVERGED_DTOL, or a residual above 1e-8 after its own test\)" -ranks 2 -ranksolver iterative -T 0.05
 unset PETSC_OPTIONS

@@ -3,7 +3,7 @@
 // elements that share a face, an edge in 2D), and every rank gets the parts. FreeFEM's
 // metisdual, which every rank ran until this file, builds the graph of elements that share a
 // vertex (about 20 neighbours a tetrahedron instead of 4): 1.9 kB per unknown on every rank,
-// the largest part of what a rank held whole (docs/performance.md, "Across ranks").
+// the largest part of what a rank held whole (docs/design.md, "How a rank's part is built").
 //
 // FreeFEM function (collective)
 //   contactRanksPartition(Th, int[int] part)  part[k]: the rank of element k (Th.nt values, the
@@ -12,6 +12,7 @@
 #include <metis.h>
 
 namespace ranks {
+static_assert(sizeof(idx_t) == sizeof(int), "METIS's idx_t is sent as MPI_INT: a METIS of 32-bit indices");
 
 // the parts of the elements whose vertices are vertexOf[(k * corners) ...] (rank 0's arrays),
 // on every rank

@@ -6,8 +6,8 @@
 // and the record's products; condensed.cpp: the direct path; ranks.hpp: what they share.
 //
 // What each rank holds: the rows of S = M/k + A + kB + C'W Kn C of the vertices it owns
-// (PETSc's MPIAIJ; assembled from the elements of its part of the mesh, each rank passing
-// the triplets of its own elements), the same rows of M, A and B (the record's products, which
+// (PETSc's MPIAIJ; summed from M, A and B, which are assembled from the elements of its part
+// of the mesh, each rank passing the triplets of its own elements), the same rows of M, A and B (the record's products, which
 // rank 0's kernel asks for through products.external), the rows of the node rotation R, and the
 // contact nodes of its vertices with their slots. No rank holds S, M, A, B or a factor whole.
 // In the nodes' frames (w = R'v) a contact node's rows are its slots' velocities.
@@ -246,6 +246,7 @@ long matrix(const double &k, Matrice_Creuse<double> *const &pD, KN<double> *cons
     state.xyz[i] = xyz[3 * (dof / state.dim) + dof % state.dim];
   }
   Mat D = assembledCOO(I, Jc, V, state.dim);
+  if (state.S) CHECK(MatDestroy(&state.S));
   CHECK(MatDuplicate(state.products[0], MAT_COPY_VALUES, &state.S));
   CHECK(MatScale(state.S, 1. / k));
   CHECK(MatAXPY(state.S, 1., state.products[1], DIFFERENT_NONZERO_PATTERN));
@@ -285,7 +286,8 @@ long productBinding(Matrice_Creuse<double> *const &pX, const long &q, KN<long> *
   CHECK(VecDestroy(&rowMax));
   largest[q] = most;
   if (!state.products[0] || !state.products[1] || !state.products[2]) return 0;
-  if (!state.x) CHECK(VecDuplicate(state.px[0], &state.x));
+  if (state.x) CHECK(VecDestroy(&state.x));
+  CHECK(VecDuplicate(state.px[0], &state.x));
   if (state.rank == 0) {
     Kernel &k = currentKernel();
     k.products = contactkernel::ProductMatrices();

@@ -3,7 +3,7 @@
 // elements that share a face, an edge in 2D), and every rank gets the parts. FreeFEM's
 // metisdual, which every rank ran until this file, builds the graph of elements that share a
 // vertex (about 20 neighbours a tetrahedron instead of 4): 1.9 kB per unknown on every rank,
-// the largest part of what a rank held whole (docs/design.md, "How a rank's part is built").
+// the largest part of what a rank held whole (docs/design.md, "Across ranks").
 //
 // FreeFEM function (collective)
 //   contactRanksPartition(Th, int[int] part)  part[k]: the rank of element k (Th.nt values, the

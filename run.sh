@@ -134,9 +134,9 @@ ensure_ranks() { # the packages and the plugin of -ranks
       echo "run.sh: installing ${RANKS_PACKAGES[*]} (for -ranks)" >&2
       export DEBIAN_FRONTEND=noninteractive
       apt-get update -q >&2 && apt-get install -y -q "${RANKS_PACKAGES[@]}" >&2
-      ranks_buildable || { echo "run.sh: error: Open MPI or PETSc still missing after apt-get install" >&2; exit 1; }
+      ranks_buildable || { echo "run.sh: error: Open MPI, PETSc or METIS's headers still missing after apt-get install" >&2; exit 1; }
     else
-      echo "run.sh: error: -ranks needs Open MPI and PETSc; install them with:" >&2
+      echo "run.sh: error: -ranks (and ./run.sh test, bench-ranks) needs Open MPI, PETSc and METIS's headers; install them with:" >&2
       echo "  sudo apt-get update && sudo apt-get install -y ${RANKS_PACKAGES[*]}" >&2
       exit 1
     fi

@@ -101,6 +101,22 @@ PETSC_OPTIONS="-ranks_pc_type gamg" solve -ranks 2 -ranksolver iterative -T 0.02
 grep -qx "ranks_engine PETSc [0-9.]*, GMRES with GAMG" "$work/ranks-gamg/summary.txt" 2>/dev/null \
   || { echo "summary.txt does not name GAMG:"; grep ranks_engine "$work/ranks-gamg/summary.txt"; } >> "$diag" 2>&1 || status=1
 report $status "ranks: ranks_engine names the preconditioner PETSC_OPTIONS chose (GAMG)" "$diag"
+# ... and the package of a factorization PETSC_OPTIONS chose without naming one (the one PETSc
+# picks on several ranks, MUMPS; it once read "PETSc LU")
+diag="$work/ranks-itlu.diag"; : > "$diag"; status=0
+rm -rf "$work/ranks-itlu"
+PETSC_OPTIONS="-ranks_pc_type lu" solve -ranks 2 -ranksolver iterative -T 0.02 -quiet -out "$work/ranks-itlu" >> "$diag" 2>&1 || status=1
+grep -qx "ranks_engine PETSc [0-9.]*, GMRES with MUMPS LU" "$work/ranks-itlu/summary.txt" 2>/dev/null \
+  || { echo "summary.txt does not name MUMPS LU:"; grep ranks_engine "$work/ranks-itlu/summary.txt"; } >> "$diag" 2>&1 || status=1
+report $status "ranks: ranks_engine names the factorization PETSc picks when PETSC_OPTIONS names none (MUMPS)" "$diag"
+# A small mesh whose METIS partition leaves parts empty (16 triangles among 6 ranks): each takes
+# an element of the largest part, and the run = one process to 1e-9
+diag="$work/ranks-small.diag"; : > "$diag"; status=0
+rm -rf "$work/ranks-small" "$work/ranks-small-1p"
+solve -nx 4 -ny 2 -T 0.05 -estimate off -quiet -out "$work/ranks-small-1p" >> "$diag" 2>&1 || status=1
+solve -nx 4 -ny 2 -T 0.05 -ranks 6 -quiet -out "$work/ranks-small" >> "$diag" 2>&1 || status=1
+"$PYTHON" tests/check_results.py "$work/ranks-small" --compare "$work/ranks-small-1p" --rtol 1e-9 >> "$diag" 2>&1 || status=1
+report $status "ranks: 16 triangles on 6 ranks (METIS's empty parts filled) = one process to 1e-9" "$diag"
 # mpirun by hand: without -ranks N, or a 3D body without -Ddimension=3, refused (exit 2) saying
 # what to add; nothing written
 hand_refusal() { # hand_refusal NAME REGEX ARGS...

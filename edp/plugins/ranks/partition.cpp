@@ -7,7 +7,8 @@
 //
 // FreeFEM function (collective)
 //   contactRanksPartition(Th, int[int] part)  part[k]: the rank of element k (Th.nt values, the
-//       same on every rank); returns METIS's edge cut (0 on one rank)
+//       same on every rank; no rank without an element when Th.nt >= the ranks); returns
+//       METIS's edge cut (0 on one rank)
 #include "ranks.hpp"
 #include <metis.h>
 
@@ -31,6 +32,19 @@ static long partitionElements(int elements, int vertices, int corners, std::vect
     status[0] = METIS_PartMeshDual(&ne, &nn, first.data(), vertexOf.data(), nullptr, nullptr, &common, &nparts, nullptr, options, &cut,
                                    parts.data(), nodeParts.data());
     status[1] = cut;
+    // METIS may leave a part empty on a small mesh (16 triangles among 6 ranks): each empty
+    // part takes the last element of the largest part, so that any mesh with at least as many
+    // elements as ranks runs (the script refuses fewer)
+    if (status[0] == METIS_OK && elements >= state.size) {
+      std::vector<int> count(state.size, 0);
+      for (int k = 0; k < elements; k++) count[parts[k]]++;
+      for (int p = 0; p < state.size; p++) {
+        if (count[p] > 0) continue;
+        const int largest = (int)(std::max_element(count.begin(), count.end()) - count.begin());
+        for (int k = elements - 1; k >= 0; k--)
+          if (parts[k] == largest) { parts[k] = p; count[largest]--; count[p]++; break; }
+      }
+    }
   }
   std::vector<idx_t>().swap(vertexOf);
   if (state.size > 1) {

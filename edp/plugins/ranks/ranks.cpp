@@ -520,6 +520,17 @@ long contact(Matrice_Creuse<double> *const &pC, string *const &path, const doubl
                    + "): out of memory, or a matrix that is not positive definite (check the mesh)" + underOptions());
     }
     countFactorizations();
+  } else {
+    // a factorization with no package named (PETSC_OPTIONS=-ranks_pc_type lu): MUMPS's, as
+    // PETSc itself picks on several ranks, named now so that ranks_engine says which (it read
+    // "PETSc LU" while PETSc chose MUMPS at the first solve)
+    PCType type;
+    CHECK(PCGetType(pc, &type));
+    if (type && (std::string(type) == PCLU || std::string(type) == PCCHOLESKY)) {
+      MatSolverType package = nullptr;
+      CHECK(PCFactorGetMatSolverType(pc, &package));
+      if (!package) CHECK(PCFactorSetMatSolverType(pc, MATSOLVERMUMPS));
+    }
   }
   return 0;
 }

@@ -94,21 +94,20 @@ report $status "ranks: the direct path with MUMPS's LU (PETSC_OPTIONS=-ranks_pc_
 export PETSC_OPTIONS="-ranks_pc_type nosuchpc"
 expect_failure "-ranks: PETSc refuses an option of PETSC_OPTIONS" 3 "error: rank 0 of 2: PETSc error [0-9]+ in KSPSetFromOptions" -ranks 2 -T 0.02
 unset PETSC_OPTIONS
-# The engine in summary.txt is the solver as built: GAMG when PETSC_OPTIONS chooses it
-diag="$work/ranks-gamg.diag"; : > "$diag"; status=0
-rm -rf "$work/ranks-gamg"
-PETSC_OPTIONS="-ranks_pc_type gamg" solve -ranks 2 -ranksolver iterative -T 0.02 -quiet -out "$work/ranks-gamg" >> "$diag" 2>&1 || status=1
-grep -qx "ranks_engine PETSc [0-9.]*, GMRES with GAMG" "$work/ranks-gamg/summary.txt" 2>/dev/null \
-  || { echo "summary.txt does not name GAMG:"; grep ranks_engine "$work/ranks-gamg/summary.txt"; } >> "$diag" 2>&1 || status=1
-report $status "ranks: ranks_engine names the preconditioner PETSC_OPTIONS chose (GAMG)" "$diag"
-# ... and the package of a factorization PETSC_OPTIONS chose without naming one (the one PETSc
-# picks on several ranks, MUMPS; it once read "PETSc LU")
-diag="$work/ranks-itlu.diag"; : > "$diag"; status=0
-rm -rf "$work/ranks-itlu"
-PETSC_OPTIONS="-ranks_pc_type lu" solve -ranks 2 -ranksolver iterative -T 0.02 -quiet -out "$work/ranks-itlu" >> "$diag" 2>&1 || status=1
-grep -qx "ranks_engine PETSc [0-9.]*, GMRES with MUMPS LU" "$work/ranks-itlu/summary.txt" 2>/dev/null \
-  || { echo "summary.txt does not name MUMPS LU:"; grep ranks_engine "$work/ranks-itlu/summary.txt"; } >> "$diag" 2>&1 || status=1
-report $status "ranks: ranks_engine names the factorization PETSc picks when PETSC_OPTIONS names none (MUMPS)" "$diag"
+# The engine in summary.txt is the solver as built, on the iterative path: GAMG when
+# PETSC_OPTIONS chooses it; MUMPS for a factorization it chooses without naming a package (the
+# one PETSc picks on several ranks; it once read "PETSc LU")
+engine_named() { # engine_named NAME PETSC_OPTIONS ENGINE TITLE: ranks_engine reads "..., GMRES with ENGINE"
+  local diag="$work/ranks-$1.diag" status=0
+  : > "$diag"
+  rm -rf "$work/ranks-$1"
+  PETSC_OPTIONS="$2" solve -ranks 2 -ranksolver iterative -T 0.02 -quiet -out "$work/ranks-$1" >> "$diag" 2>&1 || status=1
+  grep -qx "ranks_engine PETSc [0-9.]*, GMRES with $3" "$work/ranks-$1/summary.txt" 2>/dev/null \
+    || { echo "summary.txt does not name $3:"; grep ranks_engine "$work/ranks-$1/summary.txt"; } >> "$diag" 2>&1 || status=1
+  report $status "ranks: ranks_engine names $4" "$diag"
+}
+engine_named gamg "-ranks_pc_type gamg" GAMG "the preconditioner PETSC_OPTIONS chose (GAMG)"
+engine_named itlu "-ranks_pc_type lu" "MUMPS LU" "the factorization PETSc picks when PETSC_OPTIONS names none (MUMPS)"
 # A small mesh whose METIS partition leaves parts empty (16 triangles among 6 ranks): each takes
 # an element of the largest part, and the run = one process to 1e-9
 diag="$work/ranks-small.diag"; : > "$diag"; status=0

@@ -108,6 +108,15 @@ engine_named() { # engine_named NAME PETSC_OPTIONS ENGINE TITLE: ranks_engine re
 }
 engine_named gamg "-ranks_pc_type gamg" GAMG "the preconditioner PETSC_OPTIONS chose (GAMG)"
 engine_named itlu "-ranks_pc_type lu" "MUMPS LU" "the factorization PETSc picks when PETSC_OPTIONS names none (MUMPS)"
+# PETSC_OPTIONS is recorded in summary.txt, and an option of the solver's (prefix ranks_) that
+# nothing read, a misspelt one, is said on stderr (the run's results stand)
+diag="$work/ranks-unused.diag"; : > "$diag"; status=0
+rm -rf "$work/ranks-unused"
+PETSC_OPTIONS="-ranks_pc_typ lu" solve -ranks 2 -T 0.02 -quiet -out "$work/ranks-unused" > "$work/ranks-unused.out" 2>&1 || status=1
+cat "$work/ranks-unused.out" >> "$diag"
+grep -q "^warning: PETSC_OPTIONS: -ranks_pc_typ was not used by the solver" "$work/ranks-unused.out" || { echo "no warning of the unused option" >> "$diag"; status=1; }
+grep -qx "ranks_petsc_options -ranks_pc_typ lu" "$work/ranks-unused/summary.txt" 2>/dev/null || { echo "summary.txt does not record PETSC_OPTIONS" >> "$diag"; status=1; }
+report $status "ranks: PETSC_OPTIONS recorded in summary.txt; a misspelt option of the solver's said on stderr" "$diag"
 # A small mesh whose METIS partition leaves parts empty (16 triangles among 6 ranks): each takes
 # an element of the largest part, and the run = one process to 1e-9
 diag="$work/ranks-small.diag"; : > "$diag"; status=0

@@ -61,7 +61,9 @@
 //       run; iterative: a BoomerAMG hierarchy a linear solve), refinements (direct: the kernel's
 //       Newton run again after a step's consistency test, condensed.cpp), the steps taken at
 //       that test's round-off floor
-//   contactRanksFinish()  waits for every rank, then ends PETSc
+//   contactRanksPetscOptions(0)  PETSC_OPTIONS as the run had it ("none"), for summary.txt
+//   contactRanksFinish()  waits for every rank; rank 0 warns of an option of PETSC_OPTIONS with
+//       the prefix ranks_ that nothing used; then ends PETSc
 #include "ranks.hpp"
 
 namespace ranks {
@@ -556,8 +558,30 @@ long counters(KN<double> *const &pout) {
   out[4] = state.refinements; out[5] = state.floors;
   return 0;
 }
+// PETSC_OPTIONS as the run had it, for summary.txt: "none" if unset or empty; control bytes
+// and bytes outside ASCII as '?' (the file is plain text)
+string *petscOptions(Stack stack, const long &) {
+  const char *options = std::getenv("PETSC_OPTIONS");
+  std::string text = options && *options ? options : "none";
+  for (char &c : text) if ((unsigned char)c < 32 || (unsigned char)c > 126) c = '?';
+  return Add2StackOfPtr2Free(stack, new string(text));
+}
+
 long finish() {
   MPI_Barrier(MPI_COMM_WORLD);
+  if (state.started && state.rank == 0) {
+    // an option of the ranks' solver (prefix ranks_) that nothing read: misspelt, or not for
+    // this path (said once, by rank 0; the run's results stand)
+    PetscInt count = 0;
+    char **names = nullptr, **values = nullptr;
+    if (PetscOptionsLeftGet(nullptr, &count, &names, &values) == 0) {
+      for (PetscInt i = 0; i < count; i++)
+        if (names[i] && std::string(names[i]).rfind("ranks_", 0) == 0)
+          std::fprintf(stderr, "warning: PETSC_OPTIONS: -%s was not used by the solver (misspelt, or not for -ranksolver %s)\n", names[i],
+                       state.direct ? "direct" : "iterative");
+      PetscOptionsLeftRestore(nullptr, &count, &names, &values);
+    }
+  }
   if (state.started) {
     if (state.ksp) KSPDestroy(&state.ksp);
     if (state.nearNull) MatNullSpaceDestroy(&state.nearNull);
@@ -591,6 +615,7 @@ static void Load_Init() {
   Global.Add("contactRanksPeaks", "(", new OneOperator1_<long, Array>(peaks));
   Global.Add("contactRanksCounters", "(", new OneOperator1_<long, Array>(counters));
   Global.Add("contactRanksFinish", "(", new OneOperator0<long>(finish));
+  Global.Add("contactRanksPetscOptions", "(", new OneOperator1s_<string *, long>(petscOptions));
   Global.Add("contactRanksDelassus", "(", new OneOperator1_<long, double>(delassus));
 }
 

@@ -113,6 +113,13 @@ template <class F> void forEachEntry(Matrice_Creuse<double> *A, F f) {
 }
 
 // ---------------------------------------------------------------- start, numbering
+// FreeFEM's end of the run (ff_atend): reached with PETSc still started only when a FreeFEM
+// error stopped this rank's script (contactRanksFinish ends PETSc at a run's normal end, and the
+// suite's own failures exit at once). The other ranks would wait for it in their next
+// collective call forever: this rank fails as on a crash, and mpirun stops the others.
+void stopOnError() {
+  if (state.started) rankFail(1, "a FreeFEM error on this rank (said above) stopped the run");
+}
 long start(string *const &options) {
   if (!state.started) {
     int initialized = 0;
@@ -127,6 +134,7 @@ long start(string *const &options) {
     CHECK(PetscInitializeNoArguments());
     for (size_t q = 0; q < sizeof signals / sizeof signals[0]; q++) sigaction(signals[q], &before[q], nullptr);
     state.started = true;
+    ff_atend(stopOnError);
   }
   CHECK(PetscOptionsInsertString(nullptr, options->c_str()));
   MPI_Comm_rank(MPI_COMM_WORLD, &state.rank);

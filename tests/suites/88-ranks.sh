@@ -117,14 +117,14 @@ cat "$work/ranks-unused.out" >> "$diag"
 grep -q "^warning: PETSC_OPTIONS: -ranks_pc_typ was not used by the solver" "$work/ranks-unused.out" || { echo "no warning of the unused option" >> "$diag"; status=1; }
 grep -qx "ranks_petsc_options -ranks_pc_typ lu" "$work/ranks-unused/summary.txt" 2>/dev/null || { echo "summary.txt does not record PETSC_OPTIONS" >> "$diag"; status=1; }
 report $status "ranks: PETSC_OPTIONS recorded in summary.txt; a misspelt option of the solver's said on stderr" "$diag"
-# A small mesh whose METIS partition leaves parts empty (16 triangles among 6 ranks): each takes
+# A small mesh whose METIS partition leaves a part empty (6 triangles among 4 ranks): it takes
 # an element of the largest part, and the run = one process to 1e-9
 diag="$work/ranks-small.diag"; : > "$diag"; status=0
 rm -rf "$work/ranks-small" "$work/ranks-small-1p"
-solve -nx 4 -ny 2 -T 0.05 -estimate off -quiet -out "$work/ranks-small-1p" >> "$diag" 2>&1 || status=1
-solve -nx 4 -ny 2 -T 0.05 -ranks 6 -quiet -out "$work/ranks-small" >> "$diag" 2>&1 || status=1
+solve -nx 3 -ny 1 -T 0.05 -estimate off -quiet -out "$work/ranks-small-1p" >> "$diag" 2>&1 || status=1
+solve -nx 3 -ny 1 -T 0.05 -ranks 4 -quiet -out "$work/ranks-small" >> "$diag" 2>&1 || status=1
 "$PYTHON" tests/check_results.py "$work/ranks-small" --compare "$work/ranks-small-1p" --rtol 1e-9 >> "$diag" 2>&1 || status=1
-report $status "ranks: 16 triangles on 6 ranks (METIS's empty parts filled) = one process to 1e-9" "$diag"
+report $status "ranks: 6 triangles on 4 ranks (METIS's empty part filled) = one process to 1e-9" "$diag"
 # mpirun by hand: without -ranks N, or a 3D body without -Ddimension=3, refused (exit 2) saying
 # what to add; nothing written
 # A FreeFEM error on one rank alone: the run stops (a non-zero exit, the rank and why), where

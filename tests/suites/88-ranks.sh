@@ -125,16 +125,16 @@ solve -nx 3 -ny 1 -T 0.05 -estimate off -quiet -out "$work/ranks-small-1p" >> "$
 solve -nx 3 -ny 1 -T 0.05 -ranks 4 -quiet -out "$work/ranks-small" >> "$diag" 2>&1 || status=1
 "$PYTHON" tests/check_results.py "$work/ranks-small" --compare "$work/ranks-small-1p" --rtol 1e-9 >> "$diag" 2>&1 || status=1
 report $status "ranks: 6 triangles on 4 ranks (METIS's empty part filled) = one process to 1e-9" "$diag"
-# mpirun by hand: without -ranks N, or a 3D body without -Ddimension=3, refused (exit 2) saying
-# what to add; nothing written
 # A FreeFEM error on one rank alone: the run stops (a non-zero exit, the rank and why), where
 # the other ranks once waited for it forever
 diag="$work/ranks-error.diag"; : > "$diag"; status=0; rc=0
 OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 timeout -s KILL 120 mpirun -q -np 2 FreeFem++-mpi -nw -ns -v 0 tests/data/ranks_error.edp \
   > "$diag" 2>&1 || rc=$?
 { [ "$rc" != 0 ] && [ "$rc" != 137 ]; } || { echo "exit code $rc (137: still waiting after 120 s)" >> "$diag"; status=1; }
-grep -q "error: rank 1 of 2: a FreeFEM error on this rank" "$diag" || { echo "no message naming rank 1" >> "$diag"; status=1; }
+grep -q "error: rank 1 of 2: a FreeFEM error on this rank stopped the run" "$diag" || { echo "no message naming rank 1" >> "$diag"; status=1; }
 report $status "ranks: a FreeFEM error on one rank stops the run (no rank left waiting)" "$diag"
+# mpirun by hand: without -ranks N, or a 3D body without -Ddimension=3, refused (exit 2) saying
+# what to add; nothing written
 hand_refusal() { # hand_refusal NAME REGEX ARGS...
   local name="$1" regex="$2" diag="$work/hand-refusal.diag" status=0 rc=0 out="$work/ranks-hand"; shift 2
   rm -rf "$out"*

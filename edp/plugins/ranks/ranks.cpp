@@ -116,9 +116,11 @@ template <class F> void forEachEntry(Matrice_Creuse<double> *A, F f) {
 // FreeFEM's end of the run (ff_atend): reached with PETSc still started only when a FreeFEM
 // error stopped this rank's script (contactRanksFinish ends PETSc at a run's normal end, and the
 // suite's own failures exit at once). The other ranks would wait for it in their next
-// collective call forever: this rank fails as on a crash, and mpirun stops the others.
+// collective call forever: this rank fails as on a crash, and mpirun stops the others (an
+// error every rank meets is said once, by rank 0: failAlike). (A script's exit(n) after
+// contactRanksStart would come here too, as a failure: the suite's scripts end by runError.)
 void stopOnError() {
-  if (state.started) rankFail(1, "a FreeFEM error on this rank (said above) stopped the run");
+  if (state.started) failAlike(1, "a FreeFEM error on this rank stopped the run (FreeFEM's message, where it gives one on this rank, is above)");
 }
 long start(string *const &options) {
   if (!state.started) {

@@ -224,12 +224,8 @@ long delassus(const double &progress) {
       shown = now;
     }
   }
-  std::vector<double> weight(state.rank == 0 ? nc : 0);
   if (state.rank == 0) {
-    const Kernel &k = currentKernel();
-    for (int j = 0; j < nc; j++) weight[j] = k.nodes.slotWeight[j];
-  }
-  if (state.rank == 0) {
+    Kernel &k = currentKernel();
     // E F^-1 E' is symmetric; MUMPS's entries are, to round-off: made exactly so (the Newton reads
     // Dw's rows from its columns, newton.cpp), then Dw = D W
     for (int j = 0; j < nc; j++)
@@ -237,8 +233,7 @@ long delassus(const double &progress) {
         const double mean = 0.5 * (Dw[i + (size_t)j * nc] + Dw[j + (size_t)i * nc]);
         Dw[i + (size_t)j * nc] = Dw[j + (size_t)i * nc] = mean;
       }
-    for (int j = 0; j < nc; j++) for (int i = 0; i < nc; i++) Dw[i + (size_t)j * nc] *= weight[j];
-    Kernel &k = currentKernel();
+    for (int j = 0; j < nc; j++) for (int i = 0; i < nc; i++) Dw[i + (size_t)j * nc] *= k.nodes.slotWeight[j];
     k.factor.externalFree = freeAll;
     k.factor.externalFinish = finishAll;
     contactkernel::externalDelassus(k, std::move(Dw));

@@ -497,21 +497,26 @@ long contact(Matrice_Creuse<double> *const &pC, string *const &path, const doubl
     CHECK(MatSetNearNullSpace(state.J, state.nearNull));
   }
   CHECK(KSPSetFromOptions(state.ksp));
-  if (state.direct) {                                         // the factorization, once per run
-    PCType type;
-    CHECK(PCGetType(pc, &type));
-    if (!type || (std::string(type) != PCLU && std::string(type) != PCCHOLESKY))
-      failAlike(2, std::string("option -ranksolver direct: its preconditioner must be a factorization (LU or Cholesky), but PETSC_OPTIONS chose ")
-                   + (type ? type : "none") + "; use -ranksolver iterative");
-    // the Delassus matrix is MUMPS's entries of the inverse (condensed.cpp): MUMPS's factor only.
-    // (PETSC_OPTIONS=-ranks_pc_type lu changes the factorization's type, which forgets the package
-    // set above: MUMPS again, unless another was named)
-    MatSolverType package = nullptr;
+  // a factorization with no package named (PETSC_OPTIONS=-ranks_pc_type lu, which also forgets
+  // the direct path's package set above): MUMPS's, as PETSc itself picks on several ranks, named
+  // now so that ranks_engine says which (it read "PETSc LU" while PETSc chose MUMPS at the first
+  // solve)
+  PCType type;
+  CHECK(PCGetType(pc, &type));
+  const bool factorization = type && (std::string(type) == PCLU || std::string(type) == PCCHOLESKY);
+  MatSolverType package = nullptr;
+  if (factorization) {
     CHECK(PCFactorGetMatSolverType(pc, &package));
     if (!package) {
       CHECK(PCFactorSetMatSolverType(pc, MATSOLVERMUMPS));
       CHECK(PCFactorGetMatSolverType(pc, &package));
     }
+  }
+  if (state.direct) {                                         // the factorization, once per run
+    if (!factorization)
+      failAlike(2, std::string("option -ranksolver direct: its preconditioner must be a factorization (LU or Cholesky), but PETSC_OPTIONS chose ")
+                   + (type ? type : "none") + "; use -ranksolver iterative");
+    // the Delassus matrix is MUMPS's entries of the inverse (condensed.cpp): MUMPS's factor only
     if (!package || std::string(package) != MATSOLVERMUMPS)
       failAlike(2, std::string("option -ranksolver direct: its factorization must be MUMPS's (the Delassus matrix is made from MUMPS's "
                                "entries of the inverse), but PETSC_OPTIONS chose ") + (package ? package : "PETSc's own")
@@ -532,17 +537,6 @@ long contact(Matrice_Creuse<double> *const &pC, string *const &path, const doubl
                    + "): out of memory, or a matrix that is not positive definite (check the mesh)" + underOptions());
     }
     countFactorizations();
-  } else {
-    // a factorization with no package named (PETSC_OPTIONS=-ranks_pc_type lu): MUMPS's, as
-    // PETSc itself picks on several ranks, named now so that ranks_engine says which (it read
-    // "PETSc LU" while PETSc chose MUMPS at the first solve)
-    PCType type;
-    CHECK(PCGetType(pc, &type));
-    if (type && (std::string(type) == PCLU || std::string(type) == PCCHOLESKY)) {
-      MatSolverType package = nullptr;
-      CHECK(PCFactorGetMatSolverType(pc, &package));
-      if (!package) CHECK(PCFactorSetMatSolverType(pc, MATSOLVERMUMPS));
-    }
   }
   return 0;
 }

@@ -118,12 +118,19 @@ build_kernel() {
 # with Open MPI's mpicxx against Debian's PETSc 3.18 into contactkernelmpi.so, which solve.edp
 # loads under FreeFem++-mpi. Its packages are installed only for -ranks (and the tests of it).
 RANKS_PACKAGES=(openmpi-bin libopenmpi-dev libpetsc-real3.18-dev libmetis-dev)
-PETSC_DIR_DEBIAN=/usr/lib/petscdir/petsc3.18/x86_64-linux-gnu-real
+# Debian's PETSc 3.18 for this machine's architecture (x86_64-linux-gnu-real on amd64)
+petsc_dir() {
+  local d
+  for d in /usr/lib/petscdir/petsc3.18/*-real; do [ -d "$d" ] && { echo "$d"; return; }; done
+  echo /usr/lib/petscdir/petsc3.18/x86_64-linux-gnu-real
+}
 ranks_buildable() {
+  local PETSC_DIR_DEBIAN; PETSC_DIR_DEBIAN=$(petsc_dir)
   command -v mpicxx >/dev/null 2>&1 && command -v mpirun >/dev/null 2>&1 && command -v FreeFem++-mpi >/dev/null 2>&1 \
     && [ -f "$PETSC_DIR_DEBIAN/include/petscksp.h" ] && [ -f /usr/include/metis.h ]
 }
 build_ranks_kernel() {
+  local PETSC_DIR_DEBIAN; PETSC_DIR_DEBIAN=$(petsc_dir)
   PLUGIN_CXX=mpicxx PLUGIN_INCLUDES="-I$PETSC_DIR_DEBIAN/include" \
     build_plugin contactkernelmpi "$(plugin_sources kernel contactlaw.hpp) $(plugin_sources ranks)" \
       -lcholmod -llapack -lblas -L"$PETSC_DIR_DEBIAN/lib" -lpetsc_real -lmetis

@@ -14,8 +14,8 @@ projection.txt):
     to 212k unknowns; e = 1 for BoomerAMG); the direct path's rank 0 also holds the kernel's
     dense contact-size matrices (Dw, N0 and its inverse: d = 24 bytes, not fitted), nc the
     contact slots, about 3 (nx + 1)(ny + 1) on the slab nx = 2 ny = 2 nz of n unknowns;
-  time per step (s) = t0 (n / n0)^f / min(N, cores)
-    fitted on the runs with N <= cores (on more ranks than cores the ranks share them: those
+  time per step (s) = t0 (n / n0)^f / N
+    t0, n0 and f from the runs with N <= cores (on more ranks than cores the ranks share them: those
     times are not scaling), f from the one-rank runs of two sizes; perfect strong scaling
     beyond, an optimistic assumption (the direct path's Newton runs on rank 0 alone: its
     time is not divided by N).
@@ -67,8 +67,8 @@ def main():
     cores = os.cpu_count() or 1
     exponents = {"direct": 1.4, "iterative": 1.0}
     lines = ["# projection of -ranks N (plots/bench_ranks.py): memory per rank = a + b n + c n^e / N (MB; direct: + 24e-6 nc^2 on rank 0, nc the slab's contact slots),"
-             " time per step = t0 (n/n0)^f / min(N, cores) (direct: / 1, its Newton on rank 0)",
-             f"# fitted on {len(rows)} runs of {out}/scaling.txt; cores {cores}",
+             " time per step = t0 (n/n0)^f / N (direct: / 1, its Newton on rank 0), t0, n0, f from the runs on at most as many ranks as cores",
+             f"# {len(rows)} runs in {out}/scaling.txt; cores {cores}",
              "# path quantity value"]
     fits = {}
 
@@ -79,6 +79,7 @@ def main():
     for path, e in exponents.items():
         sel = [r for r in rows if r["path"] == path and np.isfinite(number(r, "memory_peak_rank_mb_max"))]
         if len(sel) < 3:
+            lines.append(f"# {path}: not fitted, {len(sel)} runs (the model has 3 coefficients: ./run.sh bench-ranks without --quick)")
             continue
         n = np.array([number(r, "unknowns") for r in sel])
         N = np.array([number(r, "ranks") for r in sel])
@@ -125,6 +126,8 @@ def main():
     ax.set_title("slab3d, 2 steps: memory per rank")
     ax.legend(fontsize=8)
     fig.tight_layout(); fig.savefig(os.path.join(out, "ranks_memory.png"), dpi=110); plt.close(fig)
+    if not fits and os.path.exists(os.path.join(out, "ranks_projection.png")):
+        os.remove(os.path.join(out, "ranks_projection.png"))   # (an older fit's chart would not match projection.txt)
     if fits:
         fig, axes = plt.subplots(1, 2, figsize=(10, 4.2))
         ranks = np.array([4, 8, 16, 32, 64, 128, 256, 512, 1024, 2048, 4096], dtype=float)

@@ -11,7 +11,8 @@
 #   projection.txt    memory per unknown and per rank of each path (fitted on scaling.txt),
 #                     projected to 1e7 and 1e8 unknowns (plots/bench_ranks.py)
 #   ranks_*.png       the charts
-# --quick: the smallest mesh, N = 1, 2; --iterative, --direct: that path's rows again (the
+# --quick: the slab 16x8x8 (4,131 unknowns), one process and N = 1, 2, both paths, under
+# bench_ranks/quick/ (a full benchmark's files are left as they are); --iterative, --direct: that path's rows again (the
 # others kept); --agree: the agreement with one process (the paper scene, original and penalty,
 # slab3d and oblique-slide3d on N = 1, 2, 3, 4 ranks, both paths: tests/check_results.py
 # --compare at 1e-9 and ./run.sh compare's relative L2 distance of v at T, into agreement.txt);
@@ -33,6 +34,7 @@ case "${1:-}" in
   "") ;;
   *) echo "bench_ranks.sh: error: unknown argument '$1' (usage: bench_ranks.sh [--quick | --big | --iterative | --direct | --agree])" >&2; exit 2 ;;
 esac
+[ "$mode" = quick ] && out="$out/quick"   # (a smoke run: the full benchmark's files stay)
 mkdir -p "$out/runs"
 if [ "$mode" = agree ]; then
   list="$out/agreement.txt"
@@ -90,10 +92,10 @@ run() {
     return 0
   fi
   local max mean
-  max=$(value "$s" memory_peak_rank_mb_max)
+  max=$(awk -v m="$(value "$s" memory_peak_rank_mb_max)" 'BEGIN { printf "%.1f", m }')
   mean=$(awk '$1 ~ /^memory_peak_rank_mb_[0-9]+$/ { s += $2; n++ } END { printf "%.1f", s / n }' "$s")
   echo "$name $nx $ny $nz $(value "$s" dofs) $ranks $path $wall $step $(value "$s" ranks_newton_iterations) $(value "$s" ranks_linear_iterations) $max $mean ${oneMemory[$key]:-nan} ${oneStep[$key]:-nan}" >> "$table"
-  echo "$name: $ranks ranks, $path, $(value "$s" dofs) unknowns, ${step} s a step, peak per rank $max MB (mean $mean), wall $wall s"
+  echo "$name: $ranks rank$([ "$ranks" = 1 ] || echo s), $path, $(value "$s" dofs) unknowns, ${step} s a step, peak per rank $max MB (mean $mean), wall $wall s"
 }
 
 T=0.02                               # two steps; --big: one (the first, from rest: the costliest)
@@ -104,6 +106,7 @@ if [ "$mode" = big ]; then
   run big-direct-48 48 24 24 2 direct
   run big-it-48 48 24 24 2 iterative
   "$PYTHON" plots/bench_ranks.py "$out"
+  echo "bench_ranks.sh: wrote $out/scaling.txt, projection.txt and the charts ranks_*.png"
   exit 0
 fi
 # At fixed size: N = 1, 2, 4, 8 (above 2 oversubscribed), both paths (--iterative, --direct: that one)
@@ -128,3 +131,4 @@ if [ "$mode" = full ] || [ "$mode" = iterative ] || [ "$mode" = direct ]; then
   done
 fi
 "$PYTHON" plots/bench_ranks.py "$out"
+echo "bench_ranks.sh: wrote $out/scaling.txt, projection.txt and the charts ranks_*.png (the projection needs 3 runs a path or more)"

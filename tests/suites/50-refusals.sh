@@ -6,8 +6,8 @@ expect_failure "unknown option" 2 "unknown option '-foo'" -foo 1
 expect_failure "not an option" 2 "expected an option -name, got '12'" 12
 expect_failure "option without value" 2 "option -dt needs a value" -dt
 expect_failure "repeated option" 2 "option -nx is given twice" -nx 8 -nx 9
-expect_failure "real not a number" 2 "option -dt must be a real number, got 'abc'" -dt abc
-expect_failure "real half a number" 2 "option -E must be a real number, got '1e'" -E 1e
+expect_failure "real not a number" 2 "option -dt must be a real number >0, got 'abc'" -dt abc
+expect_failure "real half a number" 2 "option -E must be a real number [^,]*, got '1e'" -E 1e
 expect_failure "a 3D mesh for a 2D scene" 3 "option -mesh: 'tests/data/tetrahedron.msh' is a 3D mesh, but the scene .*paper.scene is 2D \\(geometry rectangle, vectors of two components" -mesh tests/data/tetrahedron.msh
 expect_failure "a 2D mesh for a 3D scene" 3 "option -mesh: '.*mesh.msh' is a 2D mesh \\(it has no tetrahedra: a 3D mesh needs a Physical Volume.*the scene .*column3d.scene is 3D" -scene column3d -mesh "$work/paper-coarse-original/mesh.msh"
 "$PYTHON" tests/bad_meshes3d.py "$work/column3d/mesh.msh" "$work/bad-meshes3d" > /dev/null 2>&1
@@ -23,7 +23,7 @@ expect_failure "-adapt for a 3D body" 2 "option -adapt: mesh adaptation is 2D on
 expect_failure "-Ddimension=3 given by the user" 2 "the argument '-Ddimension=3' would be read by FreeFem\+\+ as a macro definition" -Ddimension=3
 expect_failure "a choice out of its list" 2 "option -plane = 'Strain' is not one of stress\|strain" -plane Strain
 expect_failure "real overflows" 2 "option -load = 1e999 is not a finite number" -load 1e999
-expect_failure "integer not whole" 2 "option -nx must be a whole number, got '1.5'" -nx 1.5
+expect_failure "integer not whole" 2 "option -nx must be a whole number >=1 and <=4096, got '1.5'" -nx 1.5
 expect_failure "integer too large" 2 "option -ny = 5000 is out of range: it must be <= 4096" -ny 5000
 expect_failure "nx < 1" 2 "option -nx = 0 is out of range: it must be >= 1" -nx 0
 expect_failure "T <= 0" 2 "option -T = -1 is out of range: it must be > 0" -T -1

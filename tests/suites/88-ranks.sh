@@ -146,6 +146,25 @@ OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 timeout -s KILL 120 mp
 { [ "$rc" != 0 ] && [ "$rc" != 137 ]; } || { echo "exit code $rc (137: still waiting after 120 s)" >> "$diag"; status=1; }
 grep -q "error: rank 1 of 2: a FreeFEM error on this rank stopped the run" "$diag" || { echo "no message naming rank 1" >> "$diag"; status=1; }
 report $status "ranks: a FreeFEM error on one rank stops the run (no rank left waiting)" "$diag"
+# A rank killed outright (SIGKILL, as the system's out-of-memory killer does) cannot remove its
+# folder, nor say why: the run that started mpirun removes what the first rank created and says
+# so (exit 137); no rank is left running
+diag="$work/ranks-killed.diag"; : > "$diag"; status=0; out="$work/ranks-killed"
+rm -rf "$out" "$out".partial.*
+solve -ranks 2 -scene slab3d -nx 12 -ny 6 -nz 6 -T 20 -quiet -out "$out" > "$diag" 2>&1 &
+pid=$!
+for i in $(seq 1 1200); do compgen -G "$out.partial.*" > /dev/null && break; sleep 0.05; done
+rank0=""
+for p in $(pgrep -f -- "-out $out( |$)"); do tr '\0' '\n' < "/proc/$p/environ" 2> /dev/null | grep -qx "OMPI_COMM_WORLD_RANK=0" && rank0=$p; done
+[ -n "$rank0" ] && kill -KILL "$rank0" || { echo "no first rank found with $out.partial.* made" >> "$diag"; status=1; }
+rc=0; wait "$pid" || rc=$?
+[ "$rc" = 137 ] || { echo "exit code $rc, not 137" >> "$diag"; status=1; }
+grep -q "^error: a process of the run was killed (SIGKILL: .*: the run removed its unfinished output folder$" "$diag" \
+  || { echo "no message saying the run was killed and its folder removed" >> "$diag"; status=1; }
+left=$(ls -d "$out" "$out".partial.* 2> /dev/null)
+[ -z "$left" ] || { echo "left behind: $left" >> "$diag"; status=1; }
+sleep 1; pgrep -f -- "-out $out( |$)" > /dev/null && { echo "a process of the run is still running" >> "$diag"; pkill -KILL -f -- "-out $out( |$)"; status=1; }
+report $status "ranks: the first rank killed outright (SIGKILL): its output folder removed by the launching run, which says so (exit 137)" "$diag"
 # mpirun by hand: without -ranks N, or a 3D body without -Ddimension=3, refused (exit 2) saying
 # what to add; nothing written
 hand_refusal() { # hand_refusal NAME REGEX ARGS...

@@ -73,7 +73,10 @@ RankState state;
 // exit code given (runtools' handler removes the unfinished output folder and exits with
 // CONTACT_SUITE_RANK_FAILED; mpirun stops the other ranks)
 [[noreturn]] void rankFail(int code, const std::string &message) {
-  std::fprintf(stderr, "error: rank %d of %d: %s; no results written\n", state.rank, state.size, message.c_str());
+  int rank = state.rank, size = state.size, initialized = 0;
+  MPI_Initialized(&initialized);
+  if (initialized) { MPI_Comm_rank(MPI_COMM_WORLD, &rank); MPI_Comm_size(MPI_COMM_WORLD, &size); }   // (before PETSc is started too)
+  std::fprintf(stderr, "error: rank %d of %d: %s; no results written\n", rank, size, message.c_str());
   std::fflush(stderr);
   setenv("CONTACT_SUITE_RANK_FAILED", std::to_string(code).c_str(), 1);   // runtools' handler: exit with code, said already
   raise(SIGTERM);
@@ -91,8 +94,16 @@ std::string underOptions() {
   if (state.rank != 0) sleep(3);
   rankFail(code, message);
 }
+// PETSc's error: its code, the call, and PETSc's own words (its traceback is not printed:
+// start() sets PETSc's error handler to return the error only)
 void check(PetscErrorCode status, const char *what) {
-  if (status) rankFail(3, std::string("PETSc error ") + std::to_string((int)status) + " in " + what);
+  if (!status) return;
+  const char *generic = nullptr;
+  char *specific = nullptr;
+  PetscErrorMessage(status, &generic, &specific);
+  std::string words = specific && *specific ? specific : (generic ? generic : "");
+  while (!words.empty() && (words.back() == '\n' || words.back() == ' ')) words.pop_back();
+  rankFail(3, std::string("PETSc error ") + std::to_string((int)status) + " in " + what + (words.empty() ? "" : ": " + words) + underOptions());
 }
 
 double peakMegabytes() {
@@ -135,6 +146,7 @@ long start(string *const &options) {
     for (size_t q = 0; q < sizeof signals / sizeof signals[0]; q++) sigaction(signals[q], nullptr, &before[q]);
     CHECK(PetscInitializeNoArguments());
     for (size_t q = 0; q < sizeof signals / sizeof signals[0]; q++) sigaction(signals[q], &before[q], nullptr);
+    CHECK(PetscPushErrorHandler(PetscReturnErrorHandler, nullptr));   // (check() says the error in one line)
     state.started = true;
     ff_atend(stopOnError);
   }
@@ -579,10 +591,19 @@ long finish() {
     PetscInt count = 0;
     char **names = nullptr, **values = nullptr;
     if (PetscOptionsLeftGet(nullptr, &count, &names, &values) == 0) {
-      for (PetscInt i = 0; i < count; i++)
-        if (names[i] && std::string(names[i]).rfind("ranks_", 0) == 0)
+      for (PetscInt i = 0; i < count; i++) {
+        const std::string name = names[i] ? names[i] : "";
+        if (name.rfind("ranks_", 0) == 0)
           std::fprintf(stderr, "warning: PETSC_OPTIONS: -%s was not used by the solver (misspelt, or not for -ranksolver %s)\n", names[i],
                        state.direct ? "direct" : "iterative");
+        // an option of a solver's object without the prefix: the ranks' solver reads -ranks_...
+        else for (const char *object : {"ksp_", "pc_", "mat_", "mg_", "sub_"})
+          if (name.rfind(object, 0) == 0) {
+            std::fprintf(stderr, "warning: PETSC_OPTIONS: -%s was not used: the solver's options have the prefix ranks_ (-ranks_%s)\n",
+                         names[i], names[i]);
+            break;
+          }
+      }
       PetscOptionsLeftRestore(nullptr, &count, &names, &values);
     }
   }

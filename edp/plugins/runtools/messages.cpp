@@ -104,6 +104,9 @@ bool quietRank() {
 }
 
 const bool otherRank = quietRank();                // (read once, as the plugin loads: the signal handler may not call getenv)
+// a rank of a run that runLaunchRanks started: that run says an interruption (ranksEnded), which
+// mpirun, stopped too, may not pass on from a rank
+const bool launchedRank = std::getenv("CONTACT_SUITE_RANK_IDS") && std::getenv("OMPI_COMM_WORLD_SIZE");
 
 // _Exit: FreeFEM's exit handlers would print trace lines after the message. Another rank than
 // the first waits 3 s before it says why and stops: where every rank checks the same data the
@@ -149,8 +152,19 @@ void say(const char *text) { if (write(2, text, std::strlen(text)) < 0) {} }
 // System calls only (the run may be stopped anywhere, inside malloc too). Then the signal's
 // default action, so that the caller sees the exit status 128 + signal.
 void onSignal(int signal) {
-  const bool launcher = runningRanks > 0;         // -ranks N: the run that started mpirun (its first rank says it)
-  const bool removed = cleanUp();
+  const bool launcher = runningRanks > 0;         // -ranks N: the run that started mpirun (it says what happened: ranksEnded)
+  const bool removed = cleanUp();                  // (the launcher: its ranks stopped, mpirun ended)
+  if (resultsInPlace || (launcher && ranksEnded(128 + signal) == 0)) {   // nothing left to stop: the results are whole
+    if (!launcher) { say("note: the run had finished: its results are complete in "); say(outFolderText()); say("\n"); }
+    _exit(0);
+  }
+  if (launcher) {                                  // (said by ranksEnded)
+    struct sigaction action = {};
+    action.sa_handler = SIG_DFL;
+    sigaction(signal, &action, nullptr);
+    raise(signal);
+    return;
+  }
   if (signal == SIGXFSZ) {                         // a file could not be written: the output folder's exit code
     say("error: a file of the run grew past the file-size limit (ulimit -f; SIGXFSZ)");
     say(removed ? ": the run removed its unfinished output folder\n" : "\n");
@@ -161,8 +175,8 @@ void onSignal(int signal) {
   if (rankFailed) _exit(std::atoi(rankFailed) > 0 ? std::atoi(rankFailed) : 3);
   const char *crash = launcher ? nullptr : crashName(signal);
   if (crash) { say("error: the run crashed ("); say(crash); say(": a bug, or too little memory)"); }
-  else if (!otherRank && !launcher) say("interrupted");         // (another rank of -ranks: mpirun stops it after the first rank failed)
-  if (crash || (!otherRank && !launcher)) say(removed ? ": the run removed its unfinished output folder\n" : "\n");
+  else if (!otherRank && !launchedRank) say("interrupted");     // (another rank of -ranks: mpirun stops it after the first rank failed)
+  if (crash || (!otherRank && !launchedRank)) say(removed ? ": the run removed its unfinished output folder\n" : "\n");
   struct sigaction action = {};
   action.sa_handler = SIG_DFL;
   sigaction(signal, &action, nullptr);
@@ -174,6 +188,10 @@ void onSignal(int signal) {
 // Every signal that ends a process, from the plugin's load on. The handler runs on a stack of
 // its own, so that a stack overflow (SIGSEGV) is handled too. A closed standard output
 // (SIGPIPE) does not stop a run: its results go to files.
+namespace {
+const int handledSignals[] = {SIGINT, SIGTERM, SIGHUP, SIGQUIT, SIGUSR1, SIGUSR2, SIGALRM, SIGVTALRM, SIGPROF, SIGXCPU, SIGXFSZ,
+                              SIGSEGV, SIGBUS, SIGFPE, SIGILL, SIGABRT, SIGTRAP, SIGSYS};
+}
 void installSignalHandlers() {
   static char alternate[1 << 18];                  // removeTree's buffers, 8 folder levels deep
   stack_t stack = {};
@@ -184,10 +202,18 @@ void installSignalHandlers() {
   action.sa_handler = onSignal;
   action.sa_flags = SA_ONSTACK | SA_RESTART;
   sigemptyset(&action.sa_mask);
-  for (int signal : {SIGINT, SIGTERM, SIGHUP, SIGQUIT, SIGUSR1, SIGUSR2, SIGALRM, SIGVTALRM, SIGPROF, SIGXCPU, SIGXFSZ,
-                     SIGSEGV, SIGBUS, SIGFPE, SIGILL, SIGABRT, SIGTRAP, SIGSYS})
-    sigaction(signal, &action, nullptr);
+  for (int signal : handledSignals) sigaction(signal, &action, nullptr);
   std::signal(SIGPIPE, SIG_IGN);
+}
+// A child this run forks (gmsh, mpirun), before its exec: the signals' default actions (the
+// run's handler is the run's: in the child it would say "interrupted" a second time); the
+// parent blocks every signal across the fork, until it knows the child (system calls only)
+void defaultSignals() {
+  struct sigaction action = {};
+  action.sa_handler = SIG_DFL;
+  sigemptyset(&action.sa_mask);
+  for (int signal : handledSignals) sigaction(signal, &action, nullptr);
+  sigaction(SIGPIPE, &action, nullptr);
 }
 
 // FreeFEM's own errors (a failed assert, an error raised by a FreeFEM function or a plugin) end

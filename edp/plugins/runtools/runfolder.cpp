@@ -43,6 +43,63 @@ void recordMadeParent(const std::string &folder) {
 volatile pid_t runningChild = 0;
 volatile pid_t runningRanks = 0;
 char ranksPidFileC[4096];
+volatile sig_atomic_t resultsInPlace = 0;          // the results are in OUT (runFolderFinish): a signal now changes nothing
+const char *outFolderText() { return outPathC; }
+
+// ---------------------------------------------------------------- -ranks N: the launching run's file
+// The run that started mpirun (runLaunchRanks) and its ranks share one file
+// (CONTACT_SUITE_RANK_IDS): each rank appends its process id, a line of digits (registerRank);
+// the first rank appends what it created once it holds OUT ("out PATH", "partial PATH",
+// "created" if it made OUT, "parent PATH" for each parent folder it made, outermost first) and
+// "done" once its results are in OUT (tellLauncher). A rank killed outright (SIGKILL: the
+// system's out-of-memory killer) cannot remove what it created, and mpirun, stopped or killed,
+// may lose what the ranks print: the launching run reads the file when mpirun has ended
+// otherwise than with 0 (ranksEnded), removes what is left and says what happened. System
+// calls only: the signal handler calls it too.
+namespace {
+char launcherText[1 << 16];
+struct LauncherFile {
+  const char *out = nullptr, *partial = nullptr;
+  const char *parents[64];
+  int parentCount = 0;
+  bool created = false, done = false;
+};
+bool startsWith(const char *line, const char *prefix) {
+  while (*prefix) if (*line++ != *prefix++) return false;
+  return true;
+}
+// the file's lines, in launcherText (each cut at its end); onPid(id) for each line of digits
+template <class F> LauncherFile readLauncherFile(F onPid) {
+  LauncherFile file;
+  long got = 0;
+  const int fd = open(ranksPidFileC, O_RDONLY);
+  if (fd >= 0) {
+    long n;
+    while (got < (long)sizeof launcherText - 1 && (n = read(fd, launcherText + got, sizeof launcherText - 1 - got)) > 0) got += n;
+    close(fd);
+  }
+  launcherText[got] = 0;
+  for (long start = 0; start < got;) {
+    long end = start;
+    while (end < got && launcherText[end] != '\n') end++;
+    if (end == got) break;                         // (a line still being written)
+    launcherText[end] = 0;
+    const char *line = launcherText + start;
+    bool digits = *line != 0;
+    long id = 0;
+    for (const char *c = line; *c && digits; c++) { digits = *c >= '0' && *c <= '9'; id = 10 * id + (*c - '0'); }
+    if (digits) { if (id > 1) onPid((pid_t)id); }
+    else if (startsWith(line, "out ")) file.out = line + 4;
+    else if (startsWith(line, "partial ")) file.partial = line + 8;
+    else if (startsWith(line, "parent ") && file.parentCount < 64) file.parents[file.parentCount++] = line + 7;
+    else if (startsWith(line, "created") && line[7] == 0) file.created = true;
+    else if (startsWith(line, "done") && line[4] == 0) file.done = true;
+    start = end + 1;
+  }
+  return file;
+}
+void sayText(const char *text) { if (write(2, text, std::strlen(text)) < 0) {} }
+}  // namespace
 
 // -ranks N, the run that started mpirun, on a signal: SIGTERM to each rank at once (mpirun passes
 // a signal on only after about a second, while the first rank may still write the outputs;
@@ -51,25 +108,66 @@ char ranksPidFileC[4096];
 void stopRanks() {
   const pid_t launcher = runningRanks;
   if (launcher <= 0) return;
-  static char ids[1 << 14];
-  const int fd = open(ranksPidFileC, O_RDONLY);
-  long got = 0;
-  if (fd >= 0) {
-    long n;
-    while (got < (long)sizeof ids - 1 && (n = read(fd, ids + got, sizeof ids - 1 - got)) > 0) got += n;
-    close(fd);
-  }
-  long id = 0;
-  for (long i = 0; i <= got; i++) {
-    if (i < got && ids[i] >= '0' && ids[i] <= '9') { id = 10 * id + (ids[i] - '0'); continue; }
-    if (id > 1) kill((pid_t)id, SIGTERM);
-    id = 0;
-  }
+  readLauncherFile([](pid_t id) { kill(id, SIGTERM); });
   kill(launcher, SIGTERM);
   int status;
   while (waitpid(launcher, &status, 0) < 0 && errno == EINTR) {}
-  unlink(ranksPidFileC);
   runningRanks = 0;
+}
+
+// -ranks N, the run that started mpirun, once mpirun has ended with code (its exit code, 128 + n
+// after signal n; or, on a signal to this run, 128 + that signal): removes what a rank killed
+// outright left (OUT.partial.<pid>; OUT and the parent folders the run made, if still empty and
+// no other run holds OUT) and says what happened where no rank could: a signal that stopped the
+// run ("interrupted"), SIGKILL (an error), or results already in OUT (a note; then 0). An error
+// a rank said (its exit code), or a crash, it leaves as said. Returns the run's exit code.
+// System calls only.
+int ranksEnded(int code) {
+  if (ranksPidFileC[0] == 0) return code;
+  static int ranksSeen;
+  ranksSeen = 0;
+  const LauncherFile file = readLauncherFile([](pid_t) { ranksSeen++; });
+  unlink(ranksPidFileC);
+  ranksPidFileC[0] = 0;
+  if (code == 0) return 0;
+  if (ranksSeen == 0 && code < 128) {              // (mpirun -q hides Open MPI's own words)
+    sayText("error: mpirun ended (exit code ");
+    char digits[12];
+    int k = sizeof digits - 1;
+    digits[k] = 0;
+    for (int c = code; k > 0 && (c > 0 || k == (int)sizeof digits - 1); c /= 10) digits[--k] = (char)('0' + c % 10);
+    sayText(digits + k);
+    sayText(") before any rank of the run started (Open MPI's reason, which mpirun -q hides: `mpirun -np 2 true` shows it)\n");
+    return code;
+  }
+  if (file.done) {                                 // (stopped while the ranks ended MPI: the results are whole)
+    sayText("note: the run had finished: its results are complete in ");
+    sayText(file.out ? file.out : "its output folder");
+    sayText("\n");
+    return 0;
+  }
+  struct stat status;
+  if (file.partial && lstat(file.partial, &status) == 0 && S_ISDIR(status.st_mode)) removeTree(file.partial);
+  if (file.created && file.out) {                  // OUT, made empty by the run: only if no other run holds it now
+    const int fd = open(file.out, O_RDONLY | O_DIRECTORY);
+    if (fd >= 0) {
+      if (flock(fd, LOCK_EX | LOCK_NB) == 0) rmdir(file.out);
+      close(fd);
+    }
+  }
+  for (int k = file.parentCount - 1; k >= 0; k--) rmdir(file.parents[k]);   // only those still empty
+  const int signal = code > 128 ? code - 128 : 0;
+  const char *removed = file.partial ? ": the run removed its unfinished output folder\n" : "\n";
+  if (signal == SIGKILL) {
+    sayText("error: a process of the run was killed (SIGKILL: the system's out-of-memory killer, or kill -9) before it could say why");
+    sayText(removed);
+  }
+  else if (signal == SIGINT || signal == SIGTERM || signal == SIGHUP || signal == SIGQUIT || signal == SIGUSR1 || signal == SIGUSR2
+           || signal == SIGALRM || signal == SIGVTALRM || signal == SIGPROF || signal == SIGXCPU) {
+    sayText("interrupted");
+    sayText(removed);
+  }
+  return code;
 }
 
 void rememberTemporary(const std::string &path) {
@@ -309,6 +407,11 @@ long runFolderOpen(std::string *const &outText) {
     if (attempt == 10) fail(7, "option -out = '" + out + "': other runs keep replacing it; wait for them, or choose another -out");
   }
   cleanOut = createdOut;                           // removed on failure only while this run holds it
+  // -ranks N: the launching run removes them if this rank is killed outright (ranksEnded)
+  for (int k = 0; k < madeParents; k++) tellLauncher("parent " + std::string(madeParentPathC, madeParentLength[k]));
+  tellLauncher("out " + outPath);
+  tellLauncher("partial " + partialPath);
+  if (createdOut) tellLauncher("created");
   // under the lock, so that no other run changes OUT while it is read
   const std::string why = whyNotReplaceable(out);
   if (!why.empty()) fail(7, "option -out = '" + out + "' " + why + ": it is not replaced; choose another -out");
@@ -391,6 +494,8 @@ long runFolderFinish() {
     }
   }
   cleanPartial = 0; cleanOut = 0; madeParents = 0;  // the results are in OUT: nothing to remove on failure
+  resultsInPlace = 1;
+  tellLauncher("done");
   syncFolder(parentOf(outPath));
   removeReplaced(replaced);
   close(lockFd); lockFd = -1;

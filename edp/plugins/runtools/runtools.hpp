@@ -17,6 +17,7 @@
 #ifndef RUNTOOLS_HPP
 #define RUNTOOLS_HPP
 
+#include <csignal>
 #include <map>
 #include <string>
 #include <sys/types.h>
@@ -34,6 +35,7 @@ std::string errorText();                           // strerror(errno)
 bool validUtf8(const std::string &text);
 bool hasControlCharacter(const std::string &text);
 void installSignalHandlers();
+void defaultSignals();                             // in a forked child, before exec (system calls only)
 void onExit();
 
 // ---------------------------------------------------------------- runfolder.cpp
@@ -43,6 +45,9 @@ extern volatile pid_t runningChild;                // a gmsh to stop
 extern volatile pid_t runningRanks;                // -ranks N: the mpirun this run waits for (spawn.cpp)
 extern char ranksPidFileC[4096];                   // ... and the file where its ranks wrote their ids
 void stopRanks();                                  // SIGTERM to every rank and to mpirun, then waits for mpirun
+int ranksEnded(int code);                          // ... once mpirun ended: what a killed rank left removed, said; the exit code
+extern volatile sig_atomic_t resultsInPlace;       // the results are in OUT
+const char *outFolderText();                       // OUT (for the signal handler)
 void rememberTemporary(const std::string &path);   // a file this run writes outside OUT
 void forgetTemporary(const std::string &path);
 bool cleanUp();                                    // true if it removed the unfinished output folder
@@ -57,6 +62,7 @@ long long posixChecksum(const std::string &path);
 // ---------------------------------------------------------------- spawn.cpp
 void checkCommandLine();
 void registerRank();                               // a rank of -ranks N: its id into the launching run's file
+void tellLauncher(const std::string &line);        // ... and the first rank's folders (runfolder.cpp, ranksEnded)
 std::string suiteVersion(const std::string &repository);   // git describe, or VERSION, or unknown
 std::string gmshVersion(const std::string &cacheFolder);    // gmsh --version (kept in cacheFolder)
 // ---------------------------------------------------------------- state.cpp

@@ -36,9 +36,14 @@ std::vector<char *> execArguments(const std::vector<std::string> &args) {
 int spawnAndWait(const std::string &file, const std::vector<std::string> &args, const std::string &log = "/dev/null") {
   std::vector<char *> argv = execArguments(args);
   const pid_t parent = getpid();
+  sigset_t all, before;
+  sigfillset(&all);
+  sigprocmask(SIG_BLOCK, &all, &before);           // (until runningChild names the child)
   const pid_t child = fork();
-  if (child < 0) return 127;
+  if (child < 0) { sigprocmask(SIG_SETMASK, &before, nullptr); return 127; }
   if (child == 0) {                                // system calls only until exec
+    defaultSignals();
+    sigprocmask(SIG_SETMASK, &before, nullptr);
     prctl(PR_SET_PDEATHSIG, SIGKILL);
     if (getppid() != parent) _exit(127);           // the run died before prctl
     const int fd = open(log.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
@@ -49,6 +54,7 @@ int spawnAndWait(const std::string &file, const std::vector<std::string> &args, 
     _exit(127);
   }
   runningChild = child;
+  sigprocmask(SIG_SETMASK, &before, nullptr);
   int status = 0;
   while (waitpid(child, &status, 0) < 0 && errno == EINTR) {}
   runningChild = 0;
@@ -246,7 +252,7 @@ long runRestartWith(std::string *const &extra) {
 // -ranks N: this run again on N MPI ranks, in this process (execvp): mpirun -q -np N [--oversubscribe
 // beyond the cores] FreeFem++-mpi -nw, the same arguments, then -DranksMode=1 (edp/solve.edp
 // loads the ranks' kernel) and, for a 3D body, -Ddimension=3. mpirun's exit code is the run's.
-// Returns only if mpirun cannot be started (1).
+// Returns only if mpirun cannot be started (1), or the run's file of its ranks cannot be made (3).
 long runLaunchRanks(const long &count, const long &dimension) {
   if (std::getenv("OMPI_COMM_WORLD_SIZE")) return 2;   // already under mpirun, without -DranksMode=1
   std::vector<std::string> own = ownArguments();
@@ -273,30 +279,47 @@ long runLaunchRanks(const long &count, const long &dimension) {
   std::string pattern = std::string(tmp && *tmp ? tmp : "/tmp") + "/contact-ranks-XXXXXX";
   std::vector<char> name(pattern.begin(), pattern.end());
   name.push_back(0);
-  const int fd = mkstemp(name.data());
-  if (fd < 0 || name.size() > sizeof ranksPidFileC) return 1;
+  const int fd = name.size() > sizeof ranksPidFileC ? -1 : mkstemp(name.data());
+  if (fd < 0) return 3;                            // (the run's file cannot be made: TMPDIR)
   close(fd);
   std::memcpy(ranksPidFileC, name.data(), name.size());
   setenv("CONTACT_SUITE_RANK_IDS", ranksPidFileC, 1);
   std::vector<char *> argv = execArguments(args);
   std::fflush(nullptr);
   const pid_t parent = getpid();
+  sigset_t all, before;
+  sigfillset(&all);
+  sigprocmask(SIG_BLOCK, &all, &before);           // (until runningRanks names mpirun)
   const pid_t child = fork();
-  if (child < 0) { unlink(ranksPidFileC); return 1; }
+  if (child < 0) { sigprocmask(SIG_SETMASK, &before, nullptr); unlink(ranksPidFileC); return 1; }
   if (child == 0) {                                // system calls only until exec
+    defaultSignals();
+    sigprocmask(SIG_SETMASK, &before, nullptr);
     prctl(PR_SET_PDEATHSIG, SIGTERM);              // this run killed (even by SIGKILL): mpirun stops the ranks
     if (getppid() != parent) _exit(127);
     execvp("mpirun", argv.data());
     _exit(127);
   }
   runningRanks = child;
+  sigprocmask(SIG_SETMASK, &before, nullptr);
   int status = 0;
   while (waitpid(child, &status, 0) < 0 && errno == EINTR) {}
   runningRanks = 0;
-  unlink(ranksPidFileC);
-  if (WIFEXITED(status) && WEXITSTATUS(status) == 127) return 1;   // mpirun could not be started
+  if (WIFEXITED(status) && WEXITSTATUS(status) == 127) { unlink(ranksPidFileC); return 1; }   // mpirun could not be started
   std::fflush(nullptr);
-  std::_Exit(WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status));
+  std::_Exit(ranksEnded(WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status)));   // (runfolder.cpp)
+}
+
+// the first rank of a run that runLaunchRanks started: a line appended to that run's file
+// (runfolder.cpp: what it created, and when its results are in place)
+void tellLauncher(const std::string &line) {
+  const char *file = std::getenv("CONTACT_SUITE_RANK_IDS");
+  if (!file || !std::getenv("OMPI_COMM_WORLD_SIZE")) return;
+  const int fd = open(file, O_WRONLY | O_APPEND);
+  if (fd < 0) return;
+  const std::string text = line + "\n";
+  if (write(fd, text.data(), text.size()) < 0) {}
+  close(fd);
 }
 
 // a rank of a run that runLaunchRanks started: its process id appended to that run's file

@@ -49,13 +49,13 @@ if [ "$mode" = agree ]; then
       dir="$out/runs/agree-$name-$n-$path"
       rm -rf "$dir"
       if ! ./run.sh solve "${opts[@]}" -ranks "$n" -ranksolver "$path" -quiet -out "$dir" > "$dir.log" 2>&1; then
-        echo "$name $n $path failed nan" >> "$list"; echo "$name, $n ranks, $path: failed"; continue
+        echo "$name $n $path failed nan" >> "$list"; echo "$name, $n rank$([ "$n" = 1 ] || echo s), $path: failed"; continue
       fi
       verdict=passes
       "$PYTHON" tests/check_results.py "$dir" --compare "$one" --rtol 1e-9 > "$dir.compare" 2>&1 || verdict=fails
       distance=$(./run.sh compare -a "$dir" -ref "$one" 2>/dev/null | awk '{ printf "%.3g", $2 / $4 }')
       echo "$name $n $path $verdict $distance" >> "$list"
-      echo "$name, $n ranks, $path: check_results --compare 1e-9 $verdict, relative L2 of v $distance"
+      echo "$name, $n rank$([ "$n" = 1 ] || echo s), $path: check_results --compare 1e-9 $verdict, relative L2 of v $distance"
     done; done
   done
   exit 0

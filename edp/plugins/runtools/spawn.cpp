@@ -252,12 +252,25 @@ long runRestartWith(std::string *const &extra) {
 // -ranks N: this run again on N MPI ranks, in this process (execvp): mpirun -q -np N [--oversubscribe
 // beyond the cores] FreeFem++-mpi -nw, the same arguments, then -DranksMode=1 (edp/solve.edp
 // loads the ranks' kernel) and, for a 3D body, -Ddimension=3. mpirun's exit code is the run's.
-// Returns only if mpirun cannot be started (1), or the run's file of its ranks cannot be made (3).
+// Returns only if mpirun cannot be started (1), the run's file of its ranks cannot be made (3),
+// or more ranks than cores would not fit this machine's available memory at 60 MB each (4).
 long runLaunchRanks(const long &count, const long &dimension) {
   if (std::getenv("OMPI_COMM_WORLD_SIZE")) return 2;   // already under mpirun, without -DranksMode=1
   std::vector<std::string> own = ownArguments();
   if (own.empty()) return 1;
   const long cores = sysconf(_SC_NPROCESSORS_ONLN);
+  // beyond the cores, every rank is on this machine: each takes at least 60 MB (FreeFEM and
+  // PETSc, before the mesh), and ranks beyond its memory would stop it before any could refuse
+  if (count > cores) {
+    std::ifstream meminfo("/proc/meminfo");
+    std::string key;
+    long long kilobytes = -1;
+    while (meminfo >> key) {
+      if (key == "MemAvailable:") { meminfo >> kilobytes; break; }
+      meminfo.ignore(1 << 10, '\n');
+    }
+    if (kilobytes >= 0 && count * 60LL * 1024 > kilobytes) return 4;
+  }
   std::vector<std::string> args = {"mpirun", "-q", "-np", std::to_string(count)};   // -q: no banner when a rank fails
   if (count > cores) args.push_back("--oversubscribe");
   args.push_back("FreeFem++-mpi");

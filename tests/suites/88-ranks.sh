@@ -159,7 +159,7 @@ for p in $(pgrep -f -- "-out $out( |$)"); do tr '\0' '\n' < "/proc/$p/environ" 2
 [ -n "$rank0" ] && kill -KILL "$rank0" || { echo "no first rank found with $out.partial.* made" >> "$diag"; status=1; }
 rc=0; wait "$pid" || rc=$?
 [ "$rc" = 137 ] || { echo "exit code $rc, not 137" >> "$diag"; status=1; }
-grep -q "^error: a process of the run was killed (SIGKILL: .*: the run removed its unfinished output folder$" "$diag" \
+grep -q "^error: a process of the run was killed (SIGKILL: .*; the run removed its unfinished output folder$" "$diag" \
   || { echo "no message saying the run was killed and its folder removed" >> "$diag"; status=1; }
 left=$(ls -d "$out" "$out".partial.* 2> /dev/null)
 [ -z "$left" ] || { echo "left behind: $left" >> "$diag"; status=1; }

@@ -29,8 +29,15 @@ static long partitionElements(int elements, int vertices, int corners, std::vect
     idx_t options[METIS_NOPTIONS];
     METIS_SetDefaultOptions(options);
     options[METIS_OPTION_NUMBERING] = 0;
+    // (METIS traps SIGTERM and SIGABRT while it runs, and puts back the suite's handlers with
+    // signal(), without their flags: they are put back whole after it)
+    struct sigaction term, abrt;
+    sigaction(SIGTERM, nullptr, &term);
+    sigaction(SIGABRT, nullptr, &abrt);
     status[0] = METIS_PartMeshDual(&ne, &nn, first.data(), vertexOf.data(), nullptr, nullptr, &common, &nparts, nullptr, options, &cut,
                                    parts.data(), nodeParts.data());
+    sigaction(SIGTERM, &term, nullptr);
+    sigaction(SIGABRT, &abrt, nullptr);
     status[1] = cut;
     // METIS may leave a part empty on a small mesh (16 triangles among 6 ranks): each empty
     // part takes the last element of the largest part, so that any mesh with at least as many

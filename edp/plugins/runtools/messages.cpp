@@ -149,13 +149,19 @@ const char *crashName(int signal) {
 }
 void say(const char *text) { if (write(2, text, std::strlen(text)) < 0) {} }
 
+struct sigaction handlerAction = {};               // onSignal's, as installSignalHandlers sets it
 // System calls only (the run may be stopped anywhere, inside malloc too). Then the signal's
 // default action, so that the caller sees the exit status 128 + signal.
 void onSignal(int signal) {
+  if (holdSignals && !crashName(signal)) {         // raised again once the work under way is done: this handler kept for it
+    heldSignal = signal;                           // (a library's signal() may have made it one-shot: METIS's does)
+    sigaction(signal, &handlerAction, nullptr);
+    return;
+  }
   const bool launcher = runningRanks > 0;         // -ranks N: the run that started mpirun (it says what happened: ranksEnded)
   const bool removed = cleanUp();                  // (the launcher: its ranks stopped, mpirun ended)
   if (resultsInPlace || (launcher && ranksEnded(128 + signal) == 0)) {   // nothing left to stop: the results are whole
-    if (!launcher) { say("note: the run had finished: its results are complete in "); say(outFolderText()); say("\n"); }
+    if (!launcher && !launchedRank) { say("note: the run had finished: its results are complete in "); say(outFolderText()); say("\n"); }
     _exit(0);
   }
   if (launcher) {                                  // (said by ranksEnded)
@@ -198,10 +204,10 @@ void installSignalHandlers() {
   stack.ss_sp = alternate;
   stack.ss_size = sizeof alternate;
   sigaltstack(&stack, nullptr);
-  struct sigaction action = {};
+  struct sigaction &action = handlerAction;
   action.sa_handler = onSignal;
   action.sa_flags = SA_ONSTACK | SA_RESTART;
-  sigemptyset(&action.sa_mask);
+  sigfillset(&action.sa_mask);                     // (a second signal waits until the handler has done its work)
   for (int signal : handledSignals) sigaction(signal, &action, nullptr);
   std::signal(SIGPIPE, SIG_IGN);
 }

@@ -42,26 +42,27 @@ void recordMadeParent(const std::string &folder) {
 
 volatile pid_t runningChild = 0;
 volatile pid_t runningRanks = 0;
-char ranksPidFileC[4096];
+volatile int ranksFileFd = -1;
 volatile sig_atomic_t resultsInPlace = 0;          // the results are in OUT (runFolderFinish): a signal now changes nothing
+volatile sig_atomic_t holdSignals = 0, heldSignal = 0;   // a signal held until the work under way is done (messages.cpp)
 const char *outFolderText() { return outPathC; }
 
 // ---------------------------------------------------------------- -ranks N: the launching run's file
-// The run that started mpirun (runLaunchRanks) and its ranks share one file
-// (CONTACT_SUITE_RANK_IDS): each rank appends its process id, a line of digits (registerRank);
-// the first rank appends what it created once it holds OUT ("out PATH", "partial PATH",
-// "created" if it made OUT, "parent PATH" for each parent folder it made, outermost first) and
-// "done" once its results are in OUT (tellLauncher). A rank killed outright (SIGKILL: the
-// system's out-of-memory killer) cannot remove what it created, and mpirun, stopped or killed,
-// may lose what the ranks print: the launching run reads the file when mpirun has ended
-// otherwise than with 0 (ranksEnded), removes what is left and says what happened. System
-// calls only: the signal handler calls it too.
+// The run that started mpirun (runLaunchRanks) and its ranks share one file, which that run made
+// in TMPDIR and unlinked at once: it holds it open (ranksFileFd; the ranks open it as
+// /proc/<its pid>/fd/<fd>, CONTACT_SUITE_RANK_IDS), so that it goes with that run whatever ends
+// it. Each rank appends its process id, a line of digits (registerRank); the first rank appends
+// what it created once it holds OUT ("out PATH", "partial PATH", "created" if it made OUT,
+// "parents K" for the K folders above OUT it made) and "done" once its results are in OUT
+// (tellLauncher). A rank killed outright (SIGKILL: the system's out-of-memory killer) cannot
+// remove what it created, and mpirun, stopped or killed, may lose what the ranks print: the
+// launching run reads the file when mpirun has ended otherwise than with 0 (ranksEnded), removes
+// what is left and says what happened. System calls only: the signal handler calls it too.
 namespace {
 char launcherText[1 << 16];
 struct LauncherFile {
   const char *out = nullptr, *partial = nullptr;
-  const char *parents[64];
-  int parentCount = 0;
+  int parents = 0;
   bool created = false, done = false;
 };
 bool startsWith(const char *line, const char *prefix) {
@@ -72,11 +73,9 @@ bool startsWith(const char *line, const char *prefix) {
 template <class F> LauncherFile readLauncherFile(F onPid) {
   LauncherFile file;
   long got = 0;
-  const int fd = open(ranksPidFileC, O_RDONLY);
-  if (fd >= 0) {
+  if (ranksFileFd >= 0) {
     long n;
-    while (got < (long)sizeof launcherText - 1 && (n = read(fd, launcherText + got, sizeof launcherText - 1 - got)) > 0) got += n;
-    close(fd);
+    while (got < (long)sizeof launcherText - 1 && (n = pread(ranksFileFd, launcherText + got, sizeof launcherText - 1 - got, got)) > 0) got += n;
   }
   launcherText[got] = 0;
   for (long start = 0; start < got;) {
@@ -91,7 +90,7 @@ template <class F> LauncherFile readLauncherFile(F onPid) {
     if (digits) { if (id > 1) onPid((pid_t)id); }
     else if (startsWith(line, "out ")) file.out = line + 4;
     else if (startsWith(line, "partial ")) file.partial = line + 8;
-    else if (startsWith(line, "parent ") && file.parentCount < 64) file.parents[file.parentCount++] = line + 7;
+    else if (startsWith(line, "parents ")) { file.parents = 0; for (const char *c = line + 8; *c >= '0' && *c <= '9'; c++) file.parents = 10 * file.parents + (*c - '0'); }
     else if (startsWith(line, "created") && line[7] == 0) file.created = true;
     else if (startsWith(line, "done") && line[4] == 0) file.done = true;
     start = end + 1;
@@ -99,36 +98,56 @@ template <class F> LauncherFile readLauncherFile(F onPid) {
   return file;
 }
 void sayText(const char *text) { if (write(2, text, std::strlen(text)) < 0) {} }
+int ranksLeft;                                     // (the ranks still running, counted by ranksEnded)
 }  // namespace
 
-// -ranks N, the run that started mpirun, on a signal: SIGTERM to each rank at once (mpirun passes
+// -ranks N, the run that started mpirun, on a signal: SIGINT to each rank at once (mpirun passes
 // a signal on only after about a second, while the first rank may still write the outputs;
-// each rank's handler removes what it created), and to mpirun; then waits for mpirun. System
-// calls only.
+// each rank's handler removes what it created; not SIGTERM, which METIS catches while it
+// partitions, and then fails), SIGTERM to mpirun (SIGCONT too: a stopped mpirun would be
+// waited for forever); then waits for mpirun. System calls only.
+// Once the first rank has its results in OUT ("done"), nothing is stopped: the run ends as it
+// would (the earlier OUT removed, MPI ended), for 60 s at most.
 void stopRanks() {
   const pid_t launcher = runningRanks;
   if (launcher <= 0) return;
-  readLauncherFile([](pid_t id) { kill(id, SIGTERM); });
-  kill(launcher, SIGTERM);
   int status;
+  if (readLauncherFile([](pid_t) {}).done)
+    for (int wait = 0; wait < 6000; wait++) {
+      if (waitpid(launcher, &status, WNOHANG) == launcher) { runningRanks = 0; return; }
+      const struct timespec tick = {0, 10000000};
+      nanosleep(&tick, nullptr);
+    }
+  readLauncherFile([](pid_t id) { kill(id, SIGINT); });
+  kill(launcher, SIGTERM);
+  kill(launcher, SIGCONT);
   while (waitpid(launcher, &status, 0) < 0 && errno == EINTR) {}
   runningRanks = 0;
 }
 
 // -ranks N, the run that started mpirun, once mpirun has ended with code (its exit code, 128 + n
-// after signal n; or, on a signal to this run, 128 + that signal): removes what a rank killed
-// outright left (OUT.partial.<pid>; OUT and the parent folders the run made, if still empty and
-// no other run holds OUT) and says what happened where no rank could: a signal that stopped the
-// run ("interrupted"), SIGKILL (an error), or results already in OUT (a note; then 0). An error
-// a rank said (its exit code), or a crash, it leaves as said. Returns the run's exit code.
-// System calls only.
+// after signal n; or, on a signal to this run, 128 + that signal): waits (3 s at most) for ranks
+// that outlive a killed mpirun, removes what a rank killed outright left (OUT.partial.<pid>; OUT
+// and the folders above it that the run made, if still empty and no other run holds OUT) and
+// says what happened where no rank could: a signal that stopped the run ("interrupted"),
+// SIGKILL (an error), or results already in OUT (a note; then 0). An error a rank said (its
+// exit code), or a crash, it leaves as said. Returns the run's exit code. System calls only.
 int ranksEnded(int code) {
-  if (ranksPidFileC[0] == 0) return code;
+  if (ranksFileFd < 0) return code;
   static int ranksSeen;
   ranksSeen = 0;
-  const LauncherFile file = readLauncherFile([](pid_t) { ranksSeen++; });
-  unlink(ranksPidFileC);
-  ranksPidFileC[0] = 0;
+  LauncherFile file = readLauncherFile([](pid_t) { ranksSeen++; });
+  if (code != 0)                                   // (mpirun killed: its ranks end about a second later)
+    for (int wait = 0; wait < 300; wait++) {
+      ranksLeft = 0;
+      readLauncherFile([](pid_t id) { if (kill(id, 0) == 0) ranksLeft++; });
+      if (ranksLeft == 0) break;
+      const struct timespec tick = {0, 10000000};
+      nanosleep(&tick, nullptr);
+    }
+  file = readLauncherFile([](pid_t) {});
+  close(ranksFileFd);
+  ranksFileFd = -1;
   if (code == 0) return 0;
   if (ranksSeen == 0 && code < 128) {              // (mpirun -q hides Open MPI's own words)
     sayText("error: mpirun ended (exit code ");
@@ -140,32 +159,45 @@ int ranksEnded(int code) {
     sayText(") before any rank of the run started (Open MPI's reason, which mpirun -q hides: `mpirun -np 2 true` shows it)\n");
     return code;
   }
+  struct stat status;
+  const bool partialLeft = file.partial && lstat(file.partial, &status) == 0 && S_ISDIR(status.st_mode);
   if (file.done) {                                 // (stopped while the ranks ended MPI: the results are whole)
     sayText("note: the run had finished: its results are complete in ");
     sayText(file.out ? file.out : "its output folder");
+    if (partialLeft) { sayText(" (the earlier results it replaced remain in "); sayText(file.partial); sayText(": remove it)"); }
     sayText("\n");
     return 0;
   }
-  struct stat status;
-  if (file.partial && lstat(file.partial, &status) == 0 && S_ISDIR(status.st_mode)) removeTree(file.partial);
-  if (file.created && file.out) {                  // OUT, made empty by the run: only if no other run holds it now
-    const int fd = open(file.out, O_RDONLY | O_DIRECTORY);
-    if (fd >= 0) {
-      if (flock(fd, LOCK_EX | LOCK_NB) == 0) rmdir(file.out);
-      close(fd);
+  if (partialLeft) removeTree(file.partial);
+  if (file.out) {
+    static char folder[4096];
+    size_t length = 0;
+    while (file.out[length] && length + 1 < sizeof folder) { folder[length] = file.out[length]; length++; }
+    folder[length] = 0;
+    if (file.created) {                            // OUT, made empty by the run: only if no other run holds it now
+      const int fd = open(folder, O_RDONLY | O_DIRECTORY);
+      if (fd >= 0) {
+        if (flock(fd, LOCK_EX | LOCK_NB) == 0) rmdir(folder);
+        close(fd);
+      }
+    }
+    for (int k = 0; k < file.parents; k++) {       // the folders above OUT the run made, innermost first, if still empty
+      while (length > 0 && folder[length - 1] != '/') length--;
+      while (length > 1 && folder[length - 1] == '/') length--;
+      if (length == 0) break;
+      folder[length] = 0;
+      rmdir(folder);
     }
   }
-  for (int k = file.parentCount - 1; k >= 0; k--) rmdir(file.parents[k]);   // only those still empty
   const int signal = code > 128 ? code - 128 : 0;
-  const char *removed = file.partial ? ": the run removed its unfinished output folder\n" : "\n";
   if (signal == SIGKILL) {
     sayText("error: a process of the run was killed (SIGKILL: the system's out-of-memory killer, or kill -9) before it could say why");
-    sayText(removed);
+    sayText(file.partial ? "; the run removed its unfinished output folder\n" : "\n");
   }
   else if (signal == SIGINT || signal == SIGTERM || signal == SIGHUP || signal == SIGQUIT || signal == SIGUSR1 || signal == SIGUSR2
            || signal == SIGALRM || signal == SIGVTALRM || signal == SIGPROF || signal == SIGXCPU) {
     sayText("interrupted");
-    sayText(removed);
+    sayText(file.partial ? ": the run removed its unfinished output folder\n" : "\n");
   }
   return code;
 }
@@ -408,7 +440,7 @@ long runFolderOpen(std::string *const &outText) {
   }
   cleanOut = createdOut;                           // removed on failure only while this run holds it
   // -ranks N: the launching run removes them if this rank is killed outright (ranksEnded)
-  for (int k = 0; k < madeParents; k++) tellLauncher("parent " + std::string(madeParentPathC, madeParentLength[k]));
+  tellLauncher("parents " + std::to_string((int)madeParents));
   tellLauncher("out " + outPath);
   tellLauncher("partial " + partialPath);
   if (createdOut) tellLauncher("created");
@@ -483,6 +515,11 @@ long runFolderFinish() {
   // One atomic exchange: OUT is never missing, so no other run can take it meanwhile (the
   // earlier OUT, still locked, lands at OUT.partial.<pid>). Where the file system cannot
   // exchange (renameat2 is Linux's, and not every file system has it), two renames.
+  // From the exchange until the earlier folder is gone, a signal is held: now it would leave
+  // the earlier results half removed at OUT.partial.<pid> (raised at the end: the results are
+  // whole, and the run says so and exits 0). (Held by the handler, not blocked: FreeFEM's
+  // threads, OpenBLAS's, may take a signal sent to the process.)
+  holdSignals = 1;
   std::string replaced = partialPath;
   if (syscall(SYS_renameat2, AT_FDCWD, partialPath.c_str(), AT_FDCWD, outPath.c_str(), 2 /* RENAME_EXCHANGE */) != 0) {
     replaced = outPath + ".replaced." + std::to_string(getpid());
@@ -494,11 +531,13 @@ long runFolderFinish() {
     }
   }
   cleanPartial = 0; cleanOut = 0; madeParents = 0;  // the results are in OUT: nothing to remove on failure
-  resultsInPlace = 1;
   tellLauncher("done");
   syncFolder(parentOf(outPath));
   removeReplaced(replaced);
   close(lockFd); lockFd = -1;
+  resultsInPlace = 1;
+  holdSignals = 0;
+  if (heldSignal) raise(heldSignal);
   return 0;
 }
 

@@ -43,10 +43,11 @@ void onExit();
 // fixed buffers and sig_atomic_t flags, and removed with system calls only.
 extern volatile pid_t runningChild;                // a gmsh to stop
 extern volatile pid_t runningRanks;                // -ranks N: the mpirun this run waits for (spawn.cpp)
-extern char ranksPidFileC[4096];                   // ... and the file where its ranks wrote their ids
+extern volatile int ranksFileFd;                   // ... and the file where its ranks write their ids (runfolder.cpp)
 void stopRanks();                                  // SIGTERM to every rank and to mpirun, then waits for mpirun
 int ranksEnded(int code);                          // ... once mpirun ended: what a killed rank left removed, said; the exit code
 extern volatile sig_atomic_t resultsInPlace;       // the results are in OUT
+extern volatile sig_atomic_t holdSignals, heldSignal;   // a signal held (not a crash) until the work under way is done
 const char *outFolderText();                       // OUT (for the signal handler)
 void rememberTemporary(const std::string &path);   // a file this run writes outside OUT
 void forgetTemporary(const std::string &path);

@@ -292,11 +292,11 @@ long runLaunchRanks(const long &count, const long &dimension) {
   std::string pattern = std::string(tmp && *tmp ? tmp : "/tmp") + "/contact-ranks-XXXXXX";
   std::vector<char> name(pattern.begin(), pattern.end());
   name.push_back(0);
-  const int fd = name.size() > sizeof ranksPidFileC ? -1 : mkstemp(name.data());
+  const int fd = mkstemp(name.data());
   if (fd < 0) return 3;                            // (the run's file cannot be made: TMPDIR)
-  close(fd);
-  std::memcpy(ranksPidFileC, name.data(), name.size());
-  setenv("CONTACT_SUITE_RANK_IDS", ranksPidFileC, 1);
+  unlink(name.data());                             // (held open: it goes with this run, whatever ends it)
+  ranksFileFd = fd;
+  setenv("CONTACT_SUITE_RANK_IDS", ("/proc/" + std::to_string(getpid()) + "/fd/" + std::to_string(fd)).c_str(), 1);
   std::vector<char *> argv = execArguments(args);
   std::fflush(nullptr);
   const pid_t parent = getpid();
@@ -304,7 +304,7 @@ long runLaunchRanks(const long &count, const long &dimension) {
   sigfillset(&all);
   sigprocmask(SIG_BLOCK, &all, &before);           // (until runningRanks names mpirun)
   const pid_t child = fork();
-  if (child < 0) { sigprocmask(SIG_SETMASK, &before, nullptr); unlink(ranksPidFileC); return 1; }
+  if (child < 0) { sigprocmask(SIG_SETMASK, &before, nullptr); close(fd); ranksFileFd = -1; return 1; }
   if (child == 0) {                                // system calls only until exec
     defaultSignals();
     sigprocmask(SIG_SETMASK, &before, nullptr);
@@ -317,8 +317,14 @@ long runLaunchRanks(const long &count, const long &dimension) {
   sigprocmask(SIG_SETMASK, &before, nullptr);
   int status = 0;
   while (waitpid(child, &status, 0) < 0 && errno == EINTR) {}
+  holdSignals = 1;                                 // (from here on, a signal is held: the end below is the run's, whole)
   runningRanks = 0;
-  if (WIFEXITED(status) && WEXITSTATUS(status) == 127) { unlink(ranksPidFileC); return 1; }   // mpirun could not be started
+  if (WIFEXITED(status) && WEXITSTATUS(status) == 127) {   // mpirun could not be started
+    close(fd); ranksFileFd = -1;
+    holdSignals = 0;
+    if (heldSignal) raise(heldSignal);
+    return 1;
+  }
   std::fflush(nullptr);
   std::_Exit(ranksEnded(WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status)));   // (runfolder.cpp)
 }

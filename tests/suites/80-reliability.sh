@@ -47,6 +47,27 @@ for signal in TERM SEGV KILL; do
   report $status "a run killed with SIG$signal leaves the earlier results untouched$([ "$signal" != KILL ] && echo ", nothing else, and exits 128 + n")" "$diag"
 done
 
+# A signal once the results are in OUT changes nothing: the run exits 0, its results complete,
+# no OUT.partial.* left. The earlier OUT here lists 3000 more (empty) files, so that removing
+# it after the exchange takes a while; the signal is sent as soon as it lies at
+# OUT.partial.<pid> (a run that ends first is checked alike), and is then held until the
+# earlier folder is gone ("note: the run had finished ...")
+diag="$work/late.diag"; : > "$diag"; status=0
+rm -rf "$work/late" "$work"/late.partial.*
+solve "${coarse[@]}" -out "$work/late" >> "$diag" 2>&1 || status=1
+mkdir -p "$work/late/vtk"
+for i in $(seq 100000 103000); do : > "$work/late/vtk/fields_$i.vtu"; echo "vtk/fields_$i.vtu" >> "$work/late/run.complete"; done
+(exec "${FREEFEM[@]}" edp/solve.edp "${coarse[@]}" -out "$work/late") >> "$diag" 2>&1 &
+pid=$!
+for i in $(seq 1 4000); do compgen -G "$work/late.partial.*/vtk" > /dev/null && break; kill -0 "$pid" 2> /dev/null || break; sleep 0.005; done
+kill -TERM "$pid" 2> /dev/null
+rc=0; wait "$pid" || rc=$?
+[ "$rc" = 0 ] || { echo "exit code $rc, not 0" >> "$diag"; status=1; }
+[ -f "$work/late/run.complete" ] && [ ! -e "$work/late/vtk" ] || { echo "OUT does not hold the new run's results alone" >> "$diag"; status=1; }
+compgen -G "$work/late.partial.*" > /dev/null && { echo "left: $(ls -d "$work"/late.partial.*)" >> "$diag"; status=1; }
+report $status "a signal once the results are in OUT (the earlier OUT being removed): exit 0, the new results complete, nothing left" "$diag"
+rm -rf "$work/late"
+
 # ---- reliability: nothing of the user's is touched, runs never mix, every write is checked,
 # no shell sees user text, meshes are checked before FreeFEM reads them, signals stop the solve
 # contains FILE REGEX: FILE matches REGEX (for the diagnostics)

@@ -59,6 +59,11 @@ expect_failure "-ranks: material data whose matrix entries pass 1e20" 2 "the mat
 expect_failure "-ranks: a step that does not converge" 4 "step 1 \(t = [^)]*\): the contact solver did not converge after 1 iterations" -ranks 2 -T 0.1 -maxit 1
 # A linear solve that fails (GMRES capped at one iteration through PETSc's options): exit 4
 # naming the linear solver, its iterations, residual and PETSc's reason; nothing written
+# An options file in PETSC_OPTIONS that cannot be read: refused before mpirun (PETSc would
+# fail on every rank as it starts), exit 2, nothing written
+export PETSC_OPTIONS="-options_file $work/no-such-options-file"
+expect_failure "-ranks: PETSC_OPTIONS names an unreadable options file" 2 "PETSC_OPTIONS names an options file \(-options_file FILE\) that cannot be read" -ranks 2 -T 0.02
+unset PETSC_OPTIONS
 export PETSC_OPTIONS="-ranks_ksp_max_it 1"
 expect_failure "-ranks: a linear solve that fails" 4 "the linear solve of a Newton iteration \(-ranksolver iterative: GMRES with BoomerAMG\) stopped after 1 iterations, relative residual [0-9.e+-]+ \(PETSc's reason DIVERGED_ITS\)" -ranks 2 -ranksolver iterative -T 0.1
 unset PETSC_OPTIONS

@@ -253,11 +253,20 @@ long runRestartWith(std::string *const &extra) {
 // beyond the cores] FreeFem++-mpi -nw, the same arguments, then -DranksMode=1 (edp/solve.edp
 // loads the ranks' kernel) and, for a 3D body, -Ddimension=3. mpirun's exit code is the run's.
 // Returns only if mpirun cannot be started (1), the run's file of its ranks cannot be made (3),
-// or more ranks than cores would not fit this machine's available memory at 60 MB each (4).
+// more ranks than cores would not fit this machine's available memory at 60 MB each (4), or
+// PETSC_OPTIONS names an options file that cannot be read (5).
 long runLaunchRanks(const long &count, const long &dimension) {
   if (std::getenv("OMPI_COMM_WORLD_SIZE")) return 2;   // already under mpirun, without -DranksMode=1
   std::vector<std::string> own = ownArguments();
   if (own.empty()) return 1;
+  // PETSC_OPTIONS naming an options file that cannot be read: PETSc would fail as it starts, on
+  // every rank, with a traceback before the suite could say it
+  if (const char *options = std::getenv("PETSC_OPTIONS")) {
+    std::istringstream words(options);
+    std::string word, file;
+    while (words >> word)
+      if ((word == "-options_file" || word == "-options_file_yaml") && words >> file && access(file.c_str(), R_OK) != 0) return 5;
+  }
   const long cores = sysconf(_SC_NPROCESSORS_ONLN);
   // beyond the cores, every rank is on this machine: each takes at least 60 MB (FreeFEM and
   // PETSc, before the mesh), and ranks beyond its memory would stop it before any could refuse

@@ -12,8 +12,8 @@
 #include <algorithm>
 #include <cmath>
 #include "blas.hpp"
-#include <csignal>
 #include "kernel.hpp"
+#include "signals.hpp"
 
 namespace contactkernel {
 
@@ -136,15 +136,7 @@ int metisContactLast(Factorization &factor, cholmod_sparse *A, const std::vector
     if (position[j] >= 0)
       for (int e = Ap[j]; e < Ap[j + 1]; e++) if (position[Ai[e]] >= 0 && Ai[e] <= j) Bi[start[position[j]]++] = position[Ai[e]];
   std::vector<int> order(std::max(ni, 1));
-  // (METIS traps SIGTERM and SIGABRT while it runs, then puts back the run's handlers with
-  // signal() and its one-shot flags: a signal held at the run's end would then kill it. They
-  // are put back whole after it.)
-  struct sigaction term, abrt;
-  sigaction(SIGTERM, nullptr, &term);
-  sigaction(SIGABRT, nullptr, &abrt);
-  const int ok = ni == 0 || cholmod_metis(B, nullptr, 0, 1, order.data(), &factor.common);
-  sigaction(SIGTERM, &term, nullptr);
-  sigaction(SIGABRT, &abrt, nullptr);
+  const int ok = ni == 0 || keepingSignalHandlers([&] { return cholmod_metis(B, nullptr, 0, 1, order.data(), &factor.common); });   // (signals.hpp)
   cholmod_free_sparse(&B, &factor.common);
   if (!ok) return 0;
   int q = 0;

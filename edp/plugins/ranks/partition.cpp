@@ -10,6 +10,7 @@
 //       same on every rank; no rank without an element when Th.nt >= the ranks); returns
 //       METIS's edge cut (0 on one rank)
 #include "ranks.hpp"
+#include "kernel/signals.hpp"
 #include <metis.h>
 
 namespace ranks {
@@ -29,15 +30,10 @@ static long partitionElements(int elements, int vertices, int corners, std::vect
     idx_t options[METIS_NOPTIONS];
     METIS_SetDefaultOptions(options);
     options[METIS_OPTION_NUMBERING] = 0;
-    // (METIS traps SIGTERM and SIGABRT while it runs, and puts back the suite's handlers with
-    // signal(), without their flags: they are put back whole after it)
-    struct sigaction term, abrt;
-    sigaction(SIGTERM, nullptr, &term);
-    sigaction(SIGABRT, nullptr, &abrt);
-    status[0] = METIS_PartMeshDual(&ne, &nn, first.data(), vertexOf.data(), nullptr, nullptr, &common, &nparts, nullptr, options, &cut,
-                                   parts.data(), nodeParts.data());
-    sigaction(SIGTERM, &term, nullptr);
-    sigaction(SIGABRT, &abrt, nullptr);
+    status[0] = contactkernel::keepingSignalHandlers([&] {     // (kernel/signals.hpp: METIS traps SIGTERM, SIGABRT)
+      return METIS_PartMeshDual(&ne, &nn, first.data(), vertexOf.data(), nullptr, nullptr, &common, &nparts, nullptr, options, &cut,
+                                parts.data(), nodeParts.data());
+    });
     status[1] = cut;
     // METIS may leave a part empty on a small mesh (16 triangles among 6 ranks): each empty
     // part takes the last element of the largest part, so that any mesh with at least as many

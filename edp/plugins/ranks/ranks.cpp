@@ -65,6 +65,7 @@
 //   contactRanksFinish()  waits for every rank; rank 0 warns of an option of PETSC_OPTIONS with
 //       the prefix ranks_ that nothing used; then ends PETSc
 #include "ranks.hpp"
+#include "kernel/signals.hpp"
 
 namespace ranks {
 RankState state;
@@ -139,13 +140,8 @@ long start(string *const &options) {
     MPI_Initialized(&initialized);
     if (!initialized) ExecError("contactRanksStart: MPI is not running (FreeFem++-mpi under mpirun runs -ranks)");
     // PETSc installs signal handlers of its own (a crash then exits 59, leaving the output
-    // folder): the suite's (runtools: they remove what the run created) are put back
-    const int signals[] = {SIGINT, SIGTERM, SIGHUP, SIGQUIT, SIGUSR1, SIGUSR2, SIGALRM, SIGVTALRM, SIGPROF, SIGXCPU, SIGXFSZ,
-                           SIGSEGV, SIGBUS, SIGFPE, SIGILL, SIGABRT, SIGTRAP, SIGSYS, SIGPIPE};
-    struct sigaction before[sizeof signals / sizeof signals[0]];
-    for (size_t q = 0; q < sizeof signals / sizeof signals[0]; q++) sigaction(signals[q], nullptr, &before[q]);
-    CHECK(PetscInitializeNoArguments());
-    for (size_t q = 0; q < sizeof signals / sizeof signals[0]; q++) sigaction(signals[q], &before[q], nullptr);
+    // folder): the suite's are put back (kernel/signals.hpp)
+    CHECK(contactkernel::keepingSignalHandlers([] { return PetscInitializeNoArguments(); }));
     CHECK(PetscPushErrorHandler(PetscReturnErrorHandler, nullptr));   // (check() says the error in one line)
     state.started = true;
     ff_atend(stopOnError);

@@ -164,25 +164,20 @@ void onSignal(int signal) {
     if (!launcher && !launchedRank) { say("note: the run had finished: its results are complete in "); say(outFolderText()); say("\n"); }
     _exit(0);
   }
-  if (launcher) {                                  // (said by ranksEnded)
-    struct sigaction action = {};
-    action.sa_handler = SIG_DFL;
-    sigaction(signal, &action, nullptr);
-    raise(signal);
-    return;
+  if (!launcher) {                                 // (the launcher's: said by ranksEnded)
+    if (signal == SIGXFSZ) {                       // a file could not be written: the output folder's exit code
+      say("error: a file of the run grew past the file-size limit (ulimit -f; SIGXFSZ)");
+      say(removed ? ": the run removed its unfinished output folder\n" : "\n");
+      _exit(7);
+    }
+    // (ranks.cpp's rankFail: an error of PETSc on a rank, said already; its exit code, not a signal's)
+    const char *rankFailed = signal == SIGTERM ? std::getenv("CONTACT_SUITE_RANK_FAILED") : nullptr;
+    if (rankFailed) _exit(std::atoi(rankFailed) > 0 ? std::atoi(rankFailed) : 3);
+    const char *crash = crashName(signal);
+    if (crash) { say("error: the run crashed ("); say(crash); say(": a bug, or too little memory)"); }
+    else if (!otherRank && !launchedRank) say("interrupted");   // (another rank of -ranks: mpirun stops it after the first rank failed)
+    if (crash || (!otherRank && !launchedRank)) say(removed ? ": the run removed its unfinished output folder\n" : "\n");
   }
-  if (signal == SIGXFSZ) {                         // a file could not be written: the output folder's exit code
-    say("error: a file of the run grew past the file-size limit (ulimit -f; SIGXFSZ)");
-    say(removed ? ": the run removed its unfinished output folder\n" : "\n");
-    _exit(7);
-  }
-  // (ranks.cpp's rankFail: an error of PETSc on a rank, said already; its exit code, not a signal's)
-  const char *rankFailed = signal == SIGTERM ? std::getenv("CONTACT_SUITE_RANK_FAILED") : nullptr;
-  if (rankFailed) _exit(std::atoi(rankFailed) > 0 ? std::atoi(rankFailed) : 3);
-  const char *crash = launcher ? nullptr : crashName(signal);
-  if (crash) { say("error: the run crashed ("); say(crash); say(": a bug, or too little memory)"); }
-  else if (!otherRank && !launchedRank) say("interrupted");     // (another rank of -ranks: mpirun stops it after the first rank failed)
-  if (crash || (!otherRank && !launchedRank)) say(removed ? ": the run removed its unfinished output folder\n" : "\n");
   struct sigaction action = {};
   action.sa_handler = SIG_DFL;
   sigaction(signal, &action, nullptr);
@@ -195,6 +190,7 @@ void onSignal(int signal) {
 // its own, so that a stack overflow (SIGSEGV) is handled too. A closed standard output
 // (SIGPIPE) does not stop a run: its results go to files.
 namespace {
+// (kernel/signals.hpp keeps the same list around library calls that set handlers of their own)
 const int handledSignals[] = {SIGINT, SIGTERM, SIGHUP, SIGQUIT, SIGUSR1, SIGUSR2, SIGALRM, SIGVTALRM, SIGPROF, SIGXCPU, SIGXFSZ,
                               SIGSEGV, SIGBUS, SIGFPE, SIGILL, SIGABRT, SIGTRAP, SIGSYS};
 }

@@ -98,7 +98,16 @@ template <class F> LauncherFile readLauncherFile(F onPid) {
   return file;
 }
 void sayText(const char *text) { if (write(2, text, std::strlen(text)) < 0) {} }
-int ranksLeft;                                     // (the ranks still running, counted by ranksEnded)
+// done() asked every 10 ms, for seconds at most: true once it holds
+template <class F> bool pollFor(double seconds, F done) {
+  for (int tick = 0; tick < seconds * 100; tick++) {
+    if (done()) return true;
+    const struct timespec wait = {0, 10000000};
+    nanosleep(&wait, nullptr);
+  }
+  return done();
+}
+int ranksLeft, ranksSeen;                          // (counted by ranksEnded)
 }  // namespace
 
 // -ranks N, the run that started mpirun, on a signal: SIGINT to each rank at once (mpirun passes
@@ -112,12 +121,10 @@ void stopRanks() {
   const pid_t launcher = runningRanks;
   if (launcher <= 0) return;
   int status;
-  if (readLauncherFile([](pid_t) {}).done)
-    for (int wait = 0; wait < 6000; wait++) {
-      if (waitpid(launcher, &status, WNOHANG) == launcher) { runningRanks = 0; return; }
-      const struct timespec tick = {0, 10000000};
-      nanosleep(&tick, nullptr);
-    }
+  if (readLauncherFile([](pid_t) {}).done && pollFor(60, [&] { return waitpid(launcher, &status, WNOHANG) == launcher; })) {
+    runningRanks = 0;
+    return;
+  }
   readLauncherFile([](pid_t id) { kill(id, SIGINT); });
   kill(launcher, SIGTERM);
   kill(launcher, SIGCONT);
@@ -134,18 +141,14 @@ void stopRanks() {
 // exit code), or a crash, it leaves as said. Returns the run's exit code. System calls only.
 int ranksEnded(int code) {
   if (ranksFileFd < 0) return code;
-  static int ranksSeen;
-  ranksSeen = 0;
-  LauncherFile file = readLauncherFile([](pid_t) { ranksSeen++; });
   if (code != 0)                                   // (mpirun killed: its ranks end about a second later)
-    for (int wait = 0; wait < 300; wait++) {
+    pollFor(3, [] {
       ranksLeft = 0;
       readLauncherFile([](pid_t id) { if (kill(id, 0) == 0) ranksLeft++; });
-      if (ranksLeft == 0) break;
-      const struct timespec tick = {0, 10000000};
-      nanosleep(&tick, nullptr);
-    }
-  file = readLauncherFile([](pid_t) {});
+      return ranksLeft == 0;
+    });
+  ranksSeen = 0;                                   // (read after the ranks ended: what they wrote last included)
+  const LauncherFile file = readLauncherFile([](pid_t) { ranksSeen++; });
   close(ranksFileFd);
   ranksFileFd = -1;
   if (code == 0) return 0;

@@ -29,35 +29,48 @@ std::vector<char *> execArguments(const std::vector<std::string> &args) {
   return argv;
 }
 
+// Forks a child that runs start() (system calls only, then an exec; the child exits 127 if
+// that returns): the signals' default actions there (defaultSignals), deathSignal when the run
+// dies, even from SIGKILL; running names it before the run's handler can take a signal (every
+// signal blocked across the fork). Waits for it; returns waitpid's status, or -1 if it could not
+// fork. (running stays set: the caller clears it.)
+template <class Start> int forkAndWait(volatile pid_t &running, int deathSignal, Start start) {
+  const pid_t parent = getpid();
+  sigset_t all, before;
+  sigfillset(&all);
+  sigprocmask(SIG_BLOCK, &all, &before);
+  const pid_t child = fork();
+  if (child < 0) { sigprocmask(SIG_SETMASK, &before, nullptr); return -1; }
+  if (child == 0) {
+    defaultSignals();
+    sigprocmask(SIG_SETMASK, &before, nullptr);
+    prctl(PR_SET_PDEATHSIG, deathSignal);
+    if (getppid() != parent) _exit(127);           // the run died before prctl
+    start();
+    _exit(127);
+  }
+  running = child;
+  sigprocmask(SIG_SETMASK, &before, nullptr);
+  int status = 0;
+  while (waitpid(child, &status, 0) < 0 && errno == EINTR) {}
+  return status;
+}
+
 // The child's standard output and error go into log. The child stops with the run: the signal
 // handler kills it (runningChild), and PR_SET_PDEATHSIG kills it when the run dies otherwise,
 // even from SIGKILL. Returns its exit status, 128 + the signal that ended it, or 127 when it
 // could not be started.
 int spawnAndWait(const std::string &file, const std::vector<std::string> &args, const std::string &log = "/dev/null") {
   std::vector<char *> argv = execArguments(args);
-  const pid_t parent = getpid();
-  sigset_t all, before;
-  sigfillset(&all);
-  sigprocmask(SIG_BLOCK, &all, &before);           // (until runningChild names the child)
-  const pid_t child = fork();
-  if (child < 0) { sigprocmask(SIG_SETMASK, &before, nullptr); return 127; }
-  if (child == 0) {                                // system calls only until exec
-    defaultSignals();
-    sigprocmask(SIG_SETMASK, &before, nullptr);
-    prctl(PR_SET_PDEATHSIG, SIGKILL);
-    if (getppid() != parent) _exit(127);           // the run died before prctl
+  const int status = forkAndWait(runningChild, SIGKILL, [&] {
     const int fd = open(log.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
-    if (fd < 0) _exit(127);
+    if (fd < 0) return;
     dup2(fd, 1); dup2(fd, 2);
     if (fd > 2) close(fd);
     execvp(file.c_str(), argv.data());
-    _exit(127);
-  }
-  runningChild = child;
-  sigprocmask(SIG_SETMASK, &before, nullptr);
-  int status = 0;
-  while (waitpid(child, &status, 0) < 0 && errno == EINTR) {}
+  });
   runningChild = 0;
+  if (status < 0) return 127;
   return WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
 }
 
@@ -308,24 +321,9 @@ long runLaunchRanks(const long &count, const long &dimension) {
   setenv("CONTACT_SUITE_RANK_IDS", ("/proc/" + std::to_string(getpid()) + "/fd/" + std::to_string(fd)).c_str(), 1);
   std::vector<char *> argv = execArguments(args);
   std::fflush(nullptr);
-  const pid_t parent = getpid();
-  sigset_t all, before;
-  sigfillset(&all);
-  sigprocmask(SIG_BLOCK, &all, &before);           // (until runningRanks names mpirun)
-  const pid_t child = fork();
-  if (child < 0) { sigprocmask(SIG_SETMASK, &before, nullptr); close(fd); ranksFileFd = -1; return 1; }
-  if (child == 0) {                                // system calls only until exec
-    defaultSignals();
-    sigprocmask(SIG_SETMASK, &before, nullptr);
-    prctl(PR_SET_PDEATHSIG, SIGTERM);              // this run killed (even by SIGKILL): mpirun stops the ranks
-    if (getppid() != parent) _exit(127);
-    execvp("mpirun", argv.data());
-    _exit(127);
-  }
-  runningRanks = child;
-  sigprocmask(SIG_SETMASK, &before, nullptr);
-  int status = 0;
-  while (waitpid(child, &status, 0) < 0 && errno == EINTR) {}
+  // (SIGTERM when this run dies, even by SIGKILL: mpirun stops the ranks)
+  const int status = forkAndWait(runningRanks, SIGTERM, [&] { execvp("mpirun", argv.data()); });
+  if (status < 0) { close(fd); ranksFileFd = -1; return 1; }
   holdSignals = 1;                                 // (from here on, a signal is held: the end below is the run's, whole)
   runningRanks = 0;
   if (WIFEXITED(status) && WEXITSTATUS(status) == 127) {   // mpirun could not be started

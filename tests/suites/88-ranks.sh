@@ -36,7 +36,7 @@ diag="$work/ranks-repeat.diag"; : > "$diag"; status=0
 rm -rf "$work/ranks-paper-iterative.first"
 mv "$work/ranks-paper-iterative" "$work/ranks-paper-iterative.first" 2>> "$diag" || status=1
 solve -scene paper -T 0.2 -ranks 2 -ranksolver iterative -quiet -out "$work/ranks-paper-iterative" >> "$diag" 2>&1 || status=1
-strip_ranks_timing() { grep -v '^time_\|^memory_peak_rank_mb_' "$1"; }
+strip_ranks_timing() { strip_timing "$1" | grep -v '^memory_peak_rank_mb_'; }   # (run_tests.sh)
 for f in "${OUTPUT_FILES[@]}"; do
   cmp -s <(strip_ranks_timing "$work/ranks-paper-iterative.first/$f") <(strip_ranks_timing "$work/ranks-paper-iterative/$f") \
     || { echo "$f differs between two runs" >> "$diag"; status=1; }
